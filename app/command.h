@@ -1,0 +1,60 @@
+#pragma once
+// The command registry of the `hertzgear` program. Each command file adds its sub-command with
+// `add_command`; main() parses, runs the chosen action and maps exceptions to exit codes.
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hertzgear
+{
+  // What every command accepts.
+  struct CommandContext
+  {
+    std::string              scene_file; // may be empty where the command allows it
+    std::vector<std::string> overrides;  // --set "Section/key=value", in order
+    std::string              out_dir;    // --out DIR (may be empty)
+    std::string              command_line;
+  };
+
+  using CommandAction = std::function<int(const CommandContext &)>;
+
+  struct CommandSpec
+  {
+    std::string name;
+    std::string description;
+    bool        scene_required = true; // positional SCENE
+    bool        scene_allowed  = true;
+  };
+
+  class CommandRegistry
+  {
+  public:
+    explicit CommandRegistry(CLI::App &app) : app(app) {}
+
+    // Adds `name` under `parent` (the top-level app unless given) with SCENE, --set and --out.
+    // Returns the CLI11 sub-command so the caller can add its own flags.
+    CLI::App *add_command(const CommandSpec &spec, CommandAction action, CLI::App *parent = nullptr);
+
+    // The action of the parsed command, or an empty function if none was chosen.
+    std::function<int()> chosen() const;
+
+    // The whole command line, recorded in run.json.
+    std::string command_line;
+
+  private:
+    struct Entry
+    {
+      CLI::App                       *sub;
+      CommandAction                   action;
+      std::shared_ptr<CommandContext> context;
+    };
+    CLI::App          &app;
+    std::vector<Entry> entries;
+  };
+
+  // Registration functions, one per command file.
+  void add_scene_commands(CommandRegistry &registry); // check, defaults
+} // namespace hertzgear

@@ -1,0 +1,85 @@
+// hertzgear — finite-element contact stiffness and gear-pair dynamics from one scene file.
+//
+//   hertzgear check data/scenes/paper_crowned.prm
+//   hertzgear check data/scenes/paper_crowned.prm --set "Gear pair/Pinion/crowning_um=40"
+//   hertzgear defaults > my_scene.prm
+//
+// Exit codes: 0 success, 2 bad input (scene, arguments, geometry), 3 numerical failure,
+// 1 anything else.
+#include "app/command.h"
+#include "common/errors.h"
+
+#include <hertzgear/version.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <iostream>
+
+int main(int argc, char **argv)
+{
+  using namespace hertzgear;
+  CLI::App app{"hertzgear: finite-element contact stiffness and gear-pair dynamics", "hertzgear"};
+  app.set_version_flag("--version",
+                       std::string("hertzgear ") + version + " (git " + git_revision + ")");
+  app.require_subcommand(1);
+
+  CommandRegistry registry(app);
+  for (int i = 0; i < argc; ++i)
+    registry.command_line += (i ? " " : "") + std::string(argv[i]);
+  add_scene_commands(registry);
+
+  try
+    {
+      app.parse(argc, argv);
+    }
+  catch (const CLI::CallForHelp &e)
+    {
+      return app.exit(e);
+    }
+  catch (const CLI::CallForAllHelp &e)
+    {
+      return app.exit(e);
+    }
+  catch (const CLI::CallForVersion &e)
+    {
+      return app.exit(e);
+    }
+  catch (const CLI::ParseError &e)
+    {
+      std::cerr << "hertzgear: error: " << e.what() << "\n(see hertzgear --help)" << std::endl;
+      return exit_bad_input;
+    }
+
+  try
+    {
+      const auto action = registry.chosen();
+      if (!action)
+        {
+          std::cerr << "hertzgear: error: no command given (see hertzgear --help)" << std::endl;
+          return exit_bad_input;
+        }
+      return action();
+    }
+  catch (const InputError &e)
+    {
+      std::cerr << "hertzgear: input error: " << e.what() << std::endl;
+      return exit_bad_input;
+    }
+  catch (const NumericalError &e)
+    {
+      std::cerr << "hertzgear: numerical failure: " << e.what() << std::endl;
+      return exit_numerical;
+    }
+  catch (const dealii::ExceptionBase &e)
+    {
+      std::cerr << "hertzgear: error: ";
+      e.print_info(std::cerr);
+      std::cerr << std::endl;
+      return exit_other;
+    }
+  catch (const std::exception &e)
+    {
+      std::cerr << "hertzgear: error: " << e.what() << std::endl;
+      return exit_other;
+    }
+}

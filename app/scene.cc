@@ -1,0 +1,722 @@
+// Scene declaration, parsing and checks. Every entry has a unit in its name (or is a count or a
+// dimensionless coefficient, said in its help text), a range pattern and a help text.
+#include "app/scene.h"
+
+#include "common/errors.h"
+#include "common/hash.h"
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/patterns.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace hertzgear
+{
+  namespace fs = std::filesystem;
+  using dealii::ParameterHandler;
+  namespace Patterns = dealii::Patterns;
+
+  namespace
+  {
+    // One declared entry, for unknown-key detection on --set and for docs/scenes.md.
+    struct EntryInfo
+    {
+      std::string section; // "Gear pair/Pinion"
+      std::string key;
+      std::string default_value;
+      std::string allowed; // pattern description
+      std::string help;
+    };
+
+    // Declares entries bound to the fields of a Scene and records them.
+    class SceneSchema
+    {
+    public:
+      ParameterHandler       prm;
+      std::vector<EntryInfo> entries;
+      std::vector<std::string> section_help; // "Section|help"
+
+      void enter(const std::string &name, const std::string &help = "")
+      {
+        prm.enter_subsection(name);
+        path.push_back(name);
+        if (!help.empty())
+          section_help.push_back(current_section() + "|" + help);
+      }
+      void leave()
+      {
+        prm.leave_subsection();
+        path.pop_back();
+      }
+
+      template <typename T>
+      void add(const std::string &key, T &value, const Patterns::PatternBase &pattern,
+               const std::string &help)
+      {
+        Assert(!help.empty(), dealii::ExcMessage("every scene entry needs a help text"));
+        prm.add_parameter(key, value, help, pattern);
+        entries.push_back({current_section(), key, prm.get(key), pattern.description(), help});
+      }
+
+      std::string current_section() const
+      {
+        std::string s;
+        for (const auto &p : path)
+          s += (s.empty() ? "" : "/") + p;
+        return s;
+      }
+
+      const EntryInfo *find(const std::string &section, const std::string &key) const
+      {
+        for (const auto &e : entries)
+          if (e.section == section && e.key == key)
+            return &e;
+        return nullptr;
+      }
+
+    private:
+      std::vector<std::string> path;
+    };
+
+    // Declaration of one gear's geometry, with the defaults of the paper's pinion or gear.
+    void declare_gear(SceneSchema &s, GearScene &g, const std::string &name, int teeth,
+                      double bore_radius_mm)
+    {
+      g.teeth                         = teeth;
+      g.module_mm                     = 3.0;
+      g.pressure_angle_deg            = 20.0;
+      g.face_width_mm                 = 20.0;
+      g.profile_shift_coefficient     = 0.0;
+      g.addendum_coefficient          = 1.0;
+      g.dedendum_coefficient          = 1.25;
+      g.cutter_tip_radius_coefficient = 0.38;
+      g.tip_radius_mm                 = 0.0;
+      g.bore_radius_mm                = bore_radius_mm;
+      g.crowning_um                   = 0.0;
+      g.tip_relief_um                 = 0.0;
+      g.tip_relief_length_mm          = 0.0;
+      g.tip_relief_shape              = "linear";
+
+      s.enter(name, "Geometry of the " + std::string(name == "Pinion" ? "driving pinion" : "driven gear") +
+                      ", cut by the ISO 53 basic rack.");
+      s.add("teeth", g.teeth, Patterns::Integer(6, 1000), "Number of teeth (count).");
+      s.add("module_mm", g.module_mm, Patterns::Double(0.05, 100.0),
+            "Normal module m [mm]; both gears of a spur pair share it.");
+      s.add("pressure_angle_deg", g.pressure_angle_deg, Patterns::Double(10.0, 35.0),
+            "Pressure angle of the basic rack alpha_P [deg]; both gears share it.");
+      s.add("face_width_mm", g.face_width_mm, Patterns::Double(0.1, 2000.0),
+            "Face width b [mm].");
+      s.add("profile_shift_coefficient", g.profile_shift_coefficient, Patterns::Double(-1.5, 2.0),
+            "Profile shift coefficient x [dimensionless, in modules]; positive moves the rack away.");
+      s.add("addendum_coefficient", g.addendum_coefficient, Patterns::Double(0.5, 2.0),
+            "Addendum of the gear h_a/m [dimensionless, in modules] (ISO 53: 1.0).");
+      s.add("dedendum_coefficient", g.dedendum_coefficient, Patterns::Double(0.5, 2.5),
+            "Dedendum of the gear h_f/m = addendum of the cutting rack [dimensionless, in modules] "
+            "(ISO 53 profile A: 1.25).");
+      s.add("cutter_tip_radius_coefficient", g.cutter_tip_radius_coefficient,
+            Patterns::Double(0.0, 0.6),
+            "Tip radius of the cutting rack rho_fP/m [dimensionless, in modules]; it shapes the "
+            "trochoidal fillet (ISO 53 profile A: 0.38).");
+      s.add("tip_radius_mm", g.tip_radius_mm, Patterns::Double(0.0, 1.0e4),
+            "Tip (outside) radius r_a [mm]; 0 takes r = m z/2 + m (addendum_coefficient + x).");
+      s.add("bore_radius_mm", g.bore_radius_mm, Patterns::Double(0.0, 1.0e4),
+            "Bore radius [mm] where the body is clamped in the FE model and where the inertia "
+            "disc ends; must lie inside the root circle.");
+      s.add("crowning_um", g.crowning_um, Patterns::Double(0.0, 1000.0),
+            "Lead crowning amplitude beta [um]: parabolic material removal "
+            "Delta(z) = beta (2z/b)^2 across the face width; 0 = uncrowned.");
+      s.add("tip_relief_um", g.tip_relief_um, Patterns::Double(0.0, 1000.0),
+            "Tip relief amount C_a at the tip [um]; 0 = none.");
+      s.add("tip_relief_length_mm", g.tip_relief_length_mm, Patterns::Double(0.0, 100.0),
+            "Length of the tip relief along the line of action, measured from the tip [mm].");
+      s.add("tip_relief_shape", g.tip_relief_shape, Patterns::Selection("linear|parabolic"),
+            "Shape of the tip relief along the roll length: linear or parabolic.");
+      s.leave();
+    }
+
+    void declare_material(SceneSchema &s, MaterialScene &m, const std::string &name)
+    {
+      m.youngs_modulus_MPa = 206000.0;
+      m.poisson_ratio      = 0.3;
+      m.density_kg_per_m3  = 7850.0;
+      s.enter(name, "Linear elastic isotropic material of the " + name + ".");
+      s.add("youngs_modulus_MPa", m.youngs_modulus_MPa, Patterns::Double(1.0e3, 1.0e7),
+            "Young's modulus E [MPa] (steel: 206000).");
+      s.add("poisson_ratio", m.poisson_ratio, Patterns::Double(0.0, 0.499),
+            "Poisson's ratio nu [dimensionless] (steel: 0.3).");
+      s.add("density_kg_per_m3", m.density_kg_per_m3, Patterns::Double(100.0, 3.0e4),
+            "Mass density rho [kg/m^3] (steel: 7850); gives the inertias of the gear bodies.");
+      s.leave();
+    }
+
+    void declare_scene(SceneSchema &s, Scene &sc)
+    {
+      s.enter("Gear pair", "The spur gear pair: pinion (driving) and gear (driven).");
+      declare_gear(s, sc.pinion, "Pinion", 23, 15.0);
+      declare_gear(s, sc.gear, "Gear", 34, 20.0);
+      s.leave();
+
+      s.enter("Material", "Materials of both bodies.");
+      declare_material(s, sc.pinion_material, "Pinion");
+      declare_material(s, sc.gear_material, "Gear");
+      s.leave();
+
+      auto &o              = sc.operating;
+      o.torque_Nm          = 210.0;
+      o.speed_rpm          = 150.0;
+      o.center_distance_mm = 0.0;
+      o.backlash_mm        = 0.1172;
+      s.enter("Operating", "Load, speed and assembly of the pair.");
+      s.add("torque_Nm", o.torque_Nm, Patterns::Double(0.0, 1.0e7),
+            "Torque on the pinion T_1 [N m]; the static mesh force is F_0 = T_1 / r_b1. "
+            "0 is allowed for dynamics (rattle) but not for stiffness analysis.");
+      s.add("speed_rpm", o.speed_rpm, Patterns::Double(1.0e-3, 1.0e6),
+            "Rotational speed of the pinion n_1 [rpm]; mesh frequency f_m = z_1 n_1 / 60.");
+      s.add("center_distance_mm", o.center_distance_mm, Patterns::Double(0.0, 1.0e5),
+            "Operating centre distance a [mm]. 0 = the tight-mesh (zero-backlash) distance of the "
+            "shifted pair, with backlash_mm made by thinning the teeth. When given, the backlash "
+            "follows from it and backlash_mm must be 0.");
+      s.add("backlash_mm", o.backlash_mm, Patterns::Double(0.0, 10.0),
+            "Total backlash along the line of action 2 b_c [mm] (the dynamics' half backlash b_c is "
+            "half of it), made by thinning both gears equally. Used when center_distance_mm = 0.");
+      s.leave();
+
+      auto &e                    = sc.effects;
+      e.backlash                 = "on";
+      e.hertzian_layer           = "dynamic";
+      e.contact_damping          = "hunt-crossley";
+      e.mesh_stiffness_variation = "fourier";
+      e.rest_stiffness_variation = "constant";
+      e.ste_excitation           = "off";
+      s.enter("Effects", "Which physical effects the dynamics model contains. An effect that is "
+                         "off is absent from the equations and the state.");
+      s.add("backlash", e.backlash, Patterns::Selection("on|off"),
+            "Backlash non-linearity f(x) with half backlash b_c: on (contact loss and back-side "
+            "impacts) or off (always in contact; no separation events).");
+      s.add("hertzian_layer", e.hertzian_layer, Patterns::Selection("dynamic|quasi-static|off"),
+            "Hertzian contact layer k_h(t) G(delta) in series with the structural spring k: dynamic "
+            "(penetration delta is a state), quasi-static (delta solved algebraically from "
+            "k (f - delta) = k_h G(delta)), off (F = k f(x) + c x', the Kahraman-Singh form).");
+      s.add("contact_damping", e.contact_damping,
+            Patterns::Selection("hunt-crossley|lankarani-nikravesh|viscous-only"),
+            "Damping of the Hertzian layer: hunt-crossley (mu = 1.5 alpha k_mh), "
+            "lankarani-nikravesh (mu from restitution_coefficient and impact speed), or "
+            "viscous-only (no mu H(delta) delta' term).");
+      s.add("mesh_stiffness_variation", e.mesh_stiffness_variation,
+            Patterns::Selection("fourier|constant"),
+            "Time variation of the Hertzian stiffness k_h(t): fourier (series over the mesh "
+            "cycle) or constant (its mean k_mh).");
+      s.add("rest_stiffness_variation", e.rest_stiffness_variation,
+            Patterns::Selection("constant|fourier"),
+            "Time variation of the structural (rest) stiffness k: constant (its mean, as in the "
+            "paper) or fourier.");
+      s.add("ste_excitation", e.ste_excitation, Patterns::Selection("off|table"),
+            "Unloaded static transmission error as a displacement excitation: off, or table "
+            "(from the stiffness table's STE series).");
+      s.leave();
+
+      auto &st                       = sc.stiffness;
+      std::string table_file;
+      st.source                      = "fem";
+      st.positions_per_cycle         = 16;
+      st.harmonics                   = 4;
+      st.hertz_exponent              = 1.5;
+      st.fe_dimension                = 3;
+      st.fe_level                    = 1;
+      st.fe_degree                   = 2;
+      st.contact_grid_profile_points = 24;
+      st.contact_grid_face_points    = 16;
+      st.linear_solver               = "direct";
+      st.linear_solver_tolerance     = 1.0e-10;
+      s.enter("Stiffness", "Where the mesh stiffness comes from and how finely it is resolved.");
+      s.add("source", st.source, Patterns::Selection("fem|table|fourier|iso6336|hertz-analytic"),
+            "Stiffness source: fem (meshing + FE contact over the mesh cycle), table (a stiffness "
+            "JSON file, see table_file), fourier (coefficients in subsection Fourier), iso6336 "
+            "(ISO 6336-1 method B) or hertz-analytic (Hertz closed forms).");
+      s.add("table_file", table_file, Patterns::Anything(),
+            "Stiffness JSON file for source = table (path relative to the scene file).");
+      s.add("positions_per_cycle", st.positions_per_cycle, Patterns::Integer(1, 1024),
+            "Number S of mesh positions per mesh cycle in the loaded TCA (count); S >= 2 "
+            "harmonics + 1. The paper used 9.");
+      s.add("harmonics", st.harmonics, Patterns::Integer(0, 64),
+            "Number of harmonics of the Fourier fit of k_h (and STE, k_total) (count).");
+      s.add("hertz_exponent", st.hertz_exponent, Patterns::Double(1.0, 2.0),
+            "Exponent n of the load-penetration law F = k_h delta^n [dimensionless]: 1 for "
+            "uncrowned line contact, 1.5 for crowned point contact.");
+      s.add("fe_dimension", st.fe_dimension, Patterns::Integer(2, 3),
+            "Dimension of the FE bodies: 2 (plane strain, uncrowned pairs only) or 3.");
+      s.add("fe_level", st.fe_level, Patterns::Integer(0, 6),
+            "FE refinement level (count): each level halves the element size in the contact band.");
+      s.add("fe_degree", st.fe_degree, Patterns::Integer(1, 2),
+            "Polynomial degree of the FE displacement (1 = Q1, 2 = Q2).");
+      s.add("contact_grid_profile_points", st.contact_grid_profile_points,
+            Patterns::Integer(4, 4096),
+            "Contact grid points across the profile per tooth pair (count).");
+      s.add("contact_grid_face_points", st.contact_grid_face_points, Patterns::Integer(1, 4096),
+            "Contact grid points along the face width per tooth pair (count).");
+      s.add("linear_solver", st.linear_solver, Patterns::Selection("direct|amg-cg"),
+            "Linear solver of the FE bodies: direct (MUMPS, factorised once and reused) or amg-cg.");
+      s.add("linear_solver_tolerance", st.linear_solver_tolerance, Patterns::Double(1.0e-16, 1.0e-2),
+            "Relative residual tolerance of the iterative linear solver [dimensionless].");
+      {
+        auto &f                      = st.fourier;
+        f.k_rest_mean_N_per_m        = 4.17e8;
+        f.k_hertz_mean_N_per_m_pow_n = 0.0;
+        s.enter("Fourier", "Stiffness given as Fourier coefficients (source = fourier): "
+                           "k(t) = mean + sum_j a_j cos(j omega_m t - phi_j).");
+        s.add("k_rest_mean_N_per_m", f.k_rest_mean_N_per_m, Patterns::Double(0.0, 1.0e13),
+              "Mean structural (rest) mesh stiffness k [N/m] (the paper: 4.17e8 uncrowned, "
+              "2.79e8 crowned).");
+        s.add("k_rest_amplitudes_N_per_m", f.k_rest_amplitudes_N_per_m,
+              Patterns::List(Patterns::Double(0.0, 1.0e13), 0, 64, ","),
+              "Harmonic amplitudes of k [N/m], comma separated, harmonic 1 first.");
+        s.add("k_rest_phases_rad", f.k_rest_phases_rad,
+              Patterns::List(Patterns::Double(-100.0, 100.0), 0, 64, ","),
+              "Harmonic phases of k [rad], one per amplitude.");
+        s.add("k_hertz_mean_N_per_m_pow_n", f.k_hertz_mean_N_per_m_pow_n,
+              Patterns::Double(0.0, 1.0e16),
+              "Mean Hertzian stiffness k_mh [N/m^n] of F = k_h delta^n.");
+        s.add("k_hertz_amplitudes_N_per_m_pow_n", f.k_hertz_amplitudes_N_per_m_pow_n,
+              Patterns::List(Patterns::Double(0.0, 1.0e16), 0, 64, ","),
+              "Harmonic amplitudes k_hj of k_h [N/m^n], comma separated, harmonic 1 first.");
+        s.add("k_hertz_phases_rad", f.k_hertz_phases_rad,
+              Patterns::List(Patterns::Double(-100.0, 100.0), 0, 64, ","),
+              "Harmonic phases phi_j of k_h [rad], one per amplitude.");
+        s.leave();
+      }
+      s.leave();
+
+      auto &m             = sc.mesh;
+      m.teeth_per_sector  = 5;
+      m.face_width_layers = 8;
+      s.enter("Mesh", "gmsh meshes of the gear bodies.");
+      s.add("teeth_per_sector", m.teeth_per_sector, Patterns::Integer(1, 1000),
+            "Teeth in the meshed sector of each body (count, odd recommended: the loaded tooth in "
+            "the middle); a value >= the number of teeth meshes the full gear.");
+      s.add("face_width_layers", m.face_width_layers, Patterns::Integer(1, 512),
+            "Element layers across the face width of 3D meshes at level 0 (count).");
+      s.leave();
+
+      auto &d                         = sc.dynamics;
+      d.integrator                    = "cvode-bdf";
+      d.relative_tolerance            = 1.0e-8;
+      d.absolute_tolerance_m          = 1.0e-13;
+      d.steps_per_period              = 100;
+      d.periods                       = 800;
+      d.transient_periods             = 600;
+      d.samples_per_period            = 100;
+      d.initial_state                 = "static";
+      d.initial_dte_um                = 0.0;
+      d.initial_dte_rate_m_per_s      = 0.0;
+      d.initial_penetration_um        = 0.0;
+      d.damping_from                  = "ratio";
+      d.damping_ratio                 = 0.015;
+      d.damping_coefficient_N_s_per_m = 0.0;
+      d.alpha_s_per_m                 = 0.26;
+      d.restitution_coefficient       = 0.9;
+      d.pinion_inertia_kg_m2          = 0.0;
+      d.gear_inertia_kg_m2            = 0.0;
+      s.enter("Dynamics", "Integration of the gear-pair equations.");
+      s.add("integrator", d.integrator, Patterns::Selection("rk4|arkode-erk|cvode-bdf|ida"),
+            "Time integrator: rk4 (the paper's fixed step), arkode-erk (adaptive explicit RK), "
+            "cvode-bdf (stiff, adaptive; default) or ida (DAE form, needed when c = 0).");
+      s.add("relative_tolerance", d.relative_tolerance, Patterns::Double(1.0e-14, 1.0e-2),
+            "Relative tolerance of the adaptive integrators [dimensionless].");
+      s.add("absolute_tolerance_m", d.absolute_tolerance_m, Patterns::Double(1.0e-20, 1.0e-3),
+            "Absolute tolerance on the displacements x and delta [m] (velocities are scaled by "
+            "the mesh frequency).");
+      s.add("steps_per_period", d.steps_per_period, Patterns::Integer(1, 10000000),
+            "Fixed steps per mesh period for rk4 (count; the paper: 100).");
+      s.add("periods", d.periods, Patterns::Integer(1, 10000000),
+            "Mesh periods integrated in all (count; the paper: 800).");
+      s.add("transient_periods", d.transient_periods, Patterns::Integer(0, 10000000),
+            "Leading mesh periods discarded before steady-state analysis (count); < periods.");
+      s.add("samples_per_period", d.samples_per_period, Patterns::Integer(1, 100000),
+            "Output samples per mesh period (count; the paper: 100).");
+      s.add("initial_state", d.initial_state, Patterns::Selection("static|given"),
+            "Initial condition: static (static equilibrium under F_0 with the mean stiffness) or "
+            "given (initial_dte_um, initial_dte_rate_m_per_s, initial_penetration_um).");
+      s.add("initial_dte_um", d.initial_dte_um, Patterns::Double(-1.0e5, 1.0e5),
+            "Initial dynamic transmission error x(0) [um] (initial_state = given).");
+      s.add("initial_dte_rate_m_per_s", d.initial_dte_rate_m_per_s, Patterns::Double(-1.0e3, 1.0e3),
+            "Initial rate x'(0) [m/s] (initial_state = given).");
+      s.add("initial_penetration_um", d.initial_penetration_um, Patterns::Double(-1.0e5, 1.0e5),
+            "Initial Hertzian penetration delta(0) [um] (initial_state = given, dynamic layer).");
+      s.add("damping_from", d.damping_from, Patterns::Selection("ratio|coefficient"),
+            "How the mesh damping c is given: ratio (c = 2 zeta sqrt(k_eq m_e)) or coefficient.");
+      s.add("damping_ratio", d.damping_ratio, Patterns::Double(0.0, 1.0),
+            "Mesh damping ratio zeta [dimensionless] (the paper: 0.015).");
+      s.add("damping_coefficient_N_s_per_m", d.damping_coefficient_N_s_per_m,
+            Patterns::Double(0.0, 1.0e9),
+            "Mesh damping coefficient c [N s/m] (damping_from = coefficient; 0 gives the DAE form).");
+      s.add("alpha_s_per_m", d.alpha_s_per_m, Patterns::Double(0.0, 10.0),
+            "Hunt-Crossley coefficient alpha = (1 - e)/v_i [s/m]; mu = 1.5 alpha k_mh "
+            "(steel: 0.08 to 0.32; the paper: 0.26).");
+      s.add("restitution_coefficient", d.restitution_coefficient, Patterns::Double(0.0, 1.0),
+            "Coefficient of restitution e for the Lankarani-Nikravesh law [dimensionless].");
+      s.add("pinion_inertia_kg_m2", d.pinion_inertia_kg_m2, Patterns::Double(0.0, 1.0e6),
+            "Polar moment of inertia of the pinion [kg m^2]; 0 = solid disc between bore and "
+            "root radius over the face width.");
+      s.add("gear_inertia_kg_m2", d.gear_inertia_kg_m2, Patterns::Double(0.0, 1.0e6),
+            "Polar moment of inertia of the gear [kg m^2]; 0 = solid disc between bore and root "
+            "radius over the face width.");
+      s.leave();
+
+      auto &w                       = sc.sweep;
+      w.enabled                     = false;
+      w.speed_min_rpm               = 100.0;
+      w.speed_max_rpm               = 10000.0;
+      w.points                      = 50;
+      w.direction                   = "both";
+      w.mode                        = "both";
+      w.periods_per_point           = 300;
+      w.transient_periods_per_point = 200;
+      s.enter("Sweep", "Speed sweep of the dynamics (hertzgear sweep, or run when enabled).");
+      s.add("enabled", w.enabled, Patterns::Bool(),
+            "Whether `hertzgear run` adds the speed sweep (true/false).");
+      s.add("speed_min_rpm", w.speed_min_rpm, Patterns::Double(1.0e-3, 1.0e6),
+            "Lowest pinion speed of the sweep [rpm].");
+      s.add("speed_max_rpm", w.speed_max_rpm, Patterns::Double(1.0e-3, 1.0e6),
+            "Highest pinion speed of the sweep [rpm].");
+      s.add("points", w.points, Patterns::Integer(2, 100000), "Speeds in the sweep (count).");
+      s.add("direction", w.direction, Patterns::Selection("up|down|both"),
+            "Continuation direction: up, down or both.");
+      s.add("mode", w.mode, Patterns::Selection("continuation|independent|both"),
+            "continuation (each point starts from the last state) and/or independent points from "
+            "the initial state (for bifurcation diagrams).");
+      s.add("periods_per_point", w.periods_per_point, Patterns::Integer(1, 10000000),
+            "Mesh periods integrated per sweep point (count).");
+      s.add("transient_periods_per_point", w.transient_periods_per_point,
+            Patterns::Integer(0, 10000000),
+            "Leading mesh periods discarded per sweep point (count); < periods_per_point.");
+      s.leave();
+
+      auto &out              = sc.output;
+      out.timeseries_periods = 50;
+      out.write_fields       = true;
+      out.report             = true;
+      s.enter("Output", "What is written next to the results.");
+      s.add("timeseries_periods", out.timeseries_periods, Patterns::Integer(0, 10000000),
+            "Last mesh periods written to timeseries.csv (count; 0 = every steady period).");
+      s.add("write_fields", out.write_fields, Patterns::Bool(),
+            "Write .vtu/.pvd fields (displacement, stress, contact pressure) of the FE stage.");
+      s.add("report", out.report, Patterns::Bool(),
+            "Write the HTML report with figures at the end of `hertzgear run`.");
+      s.leave();
+
+      // The table file is a string entry; bind it to the path field through an action.
+      s.prm.enter_subsection("Stiffness");
+      s.prm.add_action("table_file", [&sc](const std::string &value) {
+        sc.stiffness.table_file = value;
+      });
+      s.prm.leave_subsection();
+    }
+
+    // deal.II's exception texts start with a source location meant for developers; users get
+    // the "Additional information" part only.
+    std::string user_message(const dealii::ExceptionBase &e)
+    {
+      std::ostringstream os;
+      e.print_info(os);
+      std::string text = os.str();
+      // collapse deal.II's indentation into single spaces
+      std::string out;
+      bool        space = false;
+      for (const char c : text)
+        {
+          if (c == '\n' || c == ' ' || c == '\t')
+            space = !out.empty();
+          else
+            {
+              if (space)
+                out += ' ';
+              out += c;
+              space = false;
+            }
+        }
+      return out;
+    }
+
+    void apply_override(SceneSchema &schema, const std::string &text)
+    {
+      const auto eq = text.find('=');
+      HG_REQUIRE_INPUT(eq != std::string::npos && eq > 0,
+                       "--set \"", text, "\": expected \"Section/Subsection/key=value\"");
+      const std::string path  = text.substr(0, eq);
+      std::string       value = text.substr(eq + 1);
+      const auto        slash = path.rfind('/');
+      HG_REQUIRE_INPUT(slash != std::string::npos,
+                       "--set \"", text, "\": the key must name its section, e.g. "
+                       "\"Operating/speed_rpm=1000\"");
+      const std::string section = path.substr(0, slash);
+      const std::string key     = path.substr(slash + 1);
+      const EntryInfo  *entry   = schema.find(section, key);
+      HG_REQUIRE_INPUT(entry != nullptr, "--set \"", text, "\": unknown key \"", key,
+                       "\" in section \"", section, "\" (see `hertzgear defaults`)");
+      // trim blanks around the value
+      const auto b = value.find_first_not_of(" \t");
+      const auto e = value.find_last_not_of(" \t");
+      value        = (b == std::string::npos) ? "" : value.substr(b, e - b + 1);
+
+      std::vector<std::string> parts;
+      std::stringstream        ss(section);
+      for (std::string p; std::getline(ss, p, '/');)
+        parts.push_back(p);
+      for (const auto &p : parts)
+        schema.prm.enter_subsection(p);
+      try
+        {
+          schema.prm.set(key, value);
+        }
+      catch (const dealii::ExceptionBase &)
+        {
+          for (std::size_t i = 0; i < parts.size(); ++i)
+            schema.prm.leave_subsection();
+          throw InputError(msg("--set \"", text, "\": value \"", value, "\" for ", section, "/",
+                               key, " is not allowed; allowed: ", entry->allowed));
+        }
+      for (std::size_t i = 0; i < parts.size(); ++i)
+        schema.prm.leave_subsection();
+    }
+
+    double root_radius_mm(const GearScene &g)
+    {
+      return g.module_mm * (0.5 * g.teeth - g.dedendum_coefficient + g.profile_shift_coefficient);
+    }
+
+    // Cross-field checks that a range pattern cannot express.
+    void check_consistency(const Scene &sc)
+    {
+      const GearScene &p = sc.pinion, &g = sc.gear;
+      HG_REQUIRE_INPUT(std::abs(p.module_mm - g.module_mm) <= 1e-12 * p.module_mm,
+                       "impossible gear pair: Gear pair/Pinion/module_mm = ", p.module_mm,
+                       " differs from Gear pair/Gear/module_mm = ", g.module_mm,
+                       "; spur gears in mesh share one module");
+      HG_REQUIRE_INPUT(std::abs(p.pressure_angle_deg - g.pressure_angle_deg) <= 1e-12,
+                       "impossible gear pair: Gear pair/Pinion/pressure_angle_deg = ",
+                       p.pressure_angle_deg, " differs from Gear pair/Gear/pressure_angle_deg = ",
+                       g.pressure_angle_deg, "; spur gears in mesh share one pressure angle");
+      const std::pair<const char *, const GearScene *> gears[] = {{"Pinion", &p}, {"Gear", &g}};
+      for (const auto &[name, gear] : gears)
+        {
+          const double rf = root_radius_mm(*gear);
+          HG_REQUIRE_INPUT(gear->bore_radius_mm < rf,
+                           "Gear pair/", name, "/bore_radius_mm = ", gear->bore_radius_mm,
+                           " is not inside the root circle (root radius ", rf, " mm)");
+          HG_REQUIRE_INPUT(gear->tip_radius_mm == 0.0 || gear->tip_radius_mm > rf,
+                           "Gear pair/", name, "/tip_radius_mm = ", gear->tip_radius_mm,
+                           " is not outside the root circle (root radius ", rf, " mm)");
+          HG_REQUIRE_INPUT((gear->tip_relief_um > 0) == (gear->tip_relief_length_mm > 0),
+                           "Gear pair/", name, "/tip_relief_um = ", gear->tip_relief_um,
+                           " and tip_relief_length_mm = ", gear->tip_relief_length_mm,
+                           ": a tip relief needs both an amount and a length (or neither)");
+        }
+      HG_REQUIRE_INPUT(sc.operating.center_distance_mm == 0.0 || sc.operating.backlash_mm == 0.0,
+                       "Operating/center_distance_mm = ", sc.operating.center_distance_mm,
+                       " and Operating/backlash_mm = ", sc.operating.backlash_mm,
+                       " are both given; the backlash follows from the centre distance, so set "
+                       "one of them to 0");
+
+      const auto &st = sc.stiffness;
+      if (st.source == "fem")
+        {
+          HG_REQUIRE_INPUT(st.positions_per_cycle >= 2 * st.harmonics + 1,
+                           "Stiffness/positions_per_cycle = ", st.positions_per_cycle,
+                           " is too few for Stiffness/harmonics = ", st.harmonics,
+                           "; a Fourier fit needs at least 2 harmonics + 1 = ",
+                           2 * st.harmonics + 1, " positions");
+          HG_REQUIRE_INPUT(st.fe_dimension == 3 || (p.crowning_um == 0 && g.crowning_um == 0),
+                           "Stiffness/fe_dimension = 2 (plane strain) cannot represent lead "
+                           "crowning (Gear pair/*/crowning_um > 0); use fe_dimension = 3");
+        }
+      if (st.source == "table" || sc.effects.ste_excitation == "table")
+        {
+          HG_REQUIRE_INPUT(!st.table_file.empty(),
+                           "Stiffness/table_file is empty but Stiffness/source = table or "
+                           "Effects/ste_excitation = table needs a stiffness JSON file");
+        }
+      if (st.source == "fourier")
+        {
+          HG_REQUIRE_INPUT(st.fourier.k_hertz_amplitudes_N_per_m_pow_n.size() ==
+                             st.fourier.k_hertz_phases_rad.size(),
+                           "Stiffness/Fourier: ", st.fourier.k_hertz_amplitudes_N_per_m_pow_n.size(),
+                           " entries in k_hertz_amplitudes_N_per_m_pow_n but ",
+                           st.fourier.k_hertz_phases_rad.size(), " in k_hertz_phases_rad");
+          HG_REQUIRE_INPUT(st.fourier.k_rest_amplitudes_N_per_m.size() ==
+                             st.fourier.k_rest_phases_rad.size(),
+                           "Stiffness/Fourier: ", st.fourier.k_rest_amplitudes_N_per_m.size(),
+                           " entries in k_rest_amplitudes_N_per_m but ",
+                           st.fourier.k_rest_phases_rad.size(), " in k_rest_phases_rad");
+          HG_REQUIRE_INPUT(st.fourier.k_rest_mean_N_per_m > 0,
+                           "Stiffness/Fourier/k_rest_mean_N_per_m must be > 0 for source = fourier");
+          HG_REQUIRE_INPUT(sc.effects.hertzian_layer == "off" ||
+                             st.fourier.k_hertz_mean_N_per_m_pow_n > 0,
+                           "Stiffness/Fourier/k_hertz_mean_N_per_m_pow_n must be > 0 for source = "
+                           "fourier with a Hertzian layer (Effects/hertzian_layer)");
+        }
+      const auto &d = sc.dynamics;
+      HG_REQUIRE_INPUT(d.transient_periods < d.periods, "Dynamics/transient_periods = ",
+                       d.transient_periods, " must be less than Dynamics/periods = ", d.periods);
+      const auto &w = sc.sweep;
+      HG_REQUIRE_INPUT(w.speed_min_rpm < w.speed_max_rpm, "Sweep/speed_min_rpm = ",
+                       w.speed_min_rpm, " must be less than Sweep/speed_max_rpm = ",
+                       w.speed_max_rpm);
+      HG_REQUIRE_INPUT(w.transient_periods_per_point < w.periods_per_point,
+                       "Sweep/transient_periods_per_point = ", w.transient_periods_per_point,
+                       " must be less than Sweep/periods_per_point = ", w.periods_per_point);
+    }
+
+    std::string print(ParameterHandler &prm, ParameterHandler::OutputStyle style)
+    {
+      std::ostringstream os;
+      prm.print_parameters(os, style);
+      return os.str();
+    }
+  } // namespace
+
+  Scene load_scene(const fs::path &file, const std::vector<std::string> &overrides)
+  {
+    Scene       sc;
+    SceneSchema schema;
+    declare_scene(schema, sc);
+
+    if (!file.empty())
+      {
+        HG_REQUIRE_INPUT(fs::exists(file), "scene file ", file.string(), " does not exist");
+        HG_REQUIRE_INPUT(fs::is_regular_file(file), "scene file ", file.string(),
+                         " is not a regular file");
+        const std::string ext = file.extension().string();
+        HG_REQUIRE_INPUT(ext == ".prm" || ext == ".json",
+                         "scene file ", file.string(), ": unknown format \"", ext,
+                         "\" (expected .prm or .json)");
+        {
+          std::ifstream probe(file);
+          HG_REQUIRE_INPUT(probe.good(), "scene file ", file.string(), " cannot be read");
+        }
+        try
+          {
+            schema.prm.parse_input(file.string(), "", false, false);
+          }
+        catch (const dealii::ExceptionBase &e)
+          {
+            throw InputError(msg("scene file ", file.string(), ": ", user_message(e)));
+          }
+        catch (const std::exception &e)
+          {
+            throw InputError(msg("scene file ", file.string(), ": ", e.what()));
+          }
+        sc.file = fs::absolute(file);
+      }
+    for (const auto &o : overrides)
+      apply_override(schema, o);
+
+    if (!sc.stiffness.table_file.empty() && sc.stiffness.table_file.is_relative() && !sc.file.empty())
+      sc.stiffness.table_file = sc.file.parent_path() / sc.stiffness.table_file;
+
+    check_consistency(sc);
+
+    sc.used_parameters_prm =
+      print(schema.prm, ParameterHandler::OutputStyle(ParameterHandler::PRM |
+                                                      ParameterHandler::KeepDeclarationOrder));
+    sc.hash = hash_hex(print(schema.prm, ParameterHandler::ShortPRM));
+    return sc;
+  }
+
+  std::string default_scene_prm()
+  {
+    Scene       sc;
+    SceneSchema schema;
+    declare_scene(schema, sc);
+    return "# hertzgear default scene: every entry with its unit, allowed range and meaning.\n"
+           "# Lines starting with '#' are comments; `hertzgear check FILE` validates a scene.\n" +
+           print(schema.prm, ParameterHandler::OutputStyle(ParameterHandler::PRM |
+                                                           ParameterHandler::KeepDeclarationOrder));
+  }
+
+  std::string scene_reference_markdown()
+  {
+    Scene       sc;
+    SceneSchema schema;
+    declare_scene(schema, sc);
+    std::ostringstream md;
+    md << "# Scene reference\n\n"
+       << "Generated by `hertzgear defaults --markdown` from the parameter declarations in "
+          "`app/scene.cc`; a test fails when this file and the declarations differ. Regenerate with\n"
+          "`build/app/hertzgear defaults --markdown > docs/scenes.md`.\n\n"
+       << "A scene is a deal.II parameter file (`.prm`, or the same tree as `.json`). Every "
+          "value can be overridden on the command line with "
+          "`--set \"Section/Subsection/key=value\"`. Units are in the key names; counts and "
+          "dimensionless coefficients say so in their meaning.\n";
+    std::string last_section;
+    for (const auto &e : schema.entries)
+      {
+        if (e.section != last_section)
+          {
+            md << "\n## " << e.section << "\n\n";
+            for (const auto &h : schema.section_help)
+              if (h.substr(0, h.find('|')) == e.section)
+                md << h.substr(h.find('|') + 1) << "\n\n";
+            md << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
+            last_section = e.section;
+          }
+        auto escape = [](std::string s) {
+          std::string r;
+          for (char c : s)
+            r += (c == '|') ? std::string("\\|") : std::string(1, c);
+          return r;
+        };
+        md << "| `" << e.key << "` | `" << escape(e.default_value) << "` | " << escape(e.allowed)
+           << " | " << escape(e.help) << " |\n";
+      }
+    return md.str();
+  }
+
+  std::string scene_values_for(const Scene &scene, const std::vector<std::string> &prefixes)
+  {
+    // Re-read the used parameters: "subsection A" / "set key = value" / "end" lines.
+    std::istringstream       in(scene.used_parameters_prm);
+    std::vector<std::string> path, lines;
+    for (std::string line; std::getline(in, line);)
+      {
+        const auto b = line.find_first_not_of(" \t");
+        if (b == std::string::npos || line[b] == '#')
+          continue;
+        line = line.substr(b);
+        if (line.rfind("subsection ", 0) == 0)
+          path.push_back(line.substr(11));
+        else if (line == "end")
+          path.pop_back();
+        else if (line.rfind("set ", 0) == 0)
+          {
+            std::string section;
+            for (const auto &p : path)
+              section += (section.empty() ? "" : "/") + p;
+            const auto eq  = line.find('=');
+            auto       key = line.substr(4, eq - 4);
+            key.erase(key.find_last_not_of(' ') + 1);
+            auto value = line.substr(eq + 1);
+            const auto vb = value.find_first_not_of(' ');
+            value = vb == std::string::npos ? "" : value.substr(vb);
+            const auto hash = value.find(" #");
+            if (hash != std::string::npos)
+              value = value.substr(0, hash);
+            for (const auto &prefix : prefixes)
+              if (section.rfind(prefix, 0) == 0)
+                {
+                  lines.push_back(section + "/" + key + " = " + value);
+                  break;
+                }
+          }
+      }
+    std::sort(lines.begin(), lines.end());
+    std::string out;
+    for (const auto &l : lines)
+      out += l + "\n";
+    return out;
+  }
+} // namespace hertzgear

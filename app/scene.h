@@ -1,0 +1,167 @@
+#pragma once
+// The scene: every value a user may set, in the units gear engineers use (unit in the name),
+// resolved into plain structs. Parsing, range checks and help texts live in scene.cc (deal.II
+// ParameterHandler); nothing below depends on deal.II, so stages take plain values.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hertzgear
+{
+  struct GearScene
+  {
+    int         teeth                         = 0;
+    double      module_mm                     = 0;
+    double      pressure_angle_deg            = 0;
+    double      face_width_mm                 = 0;
+    double      profile_shift_coefficient     = 0; // x, in modules
+    double      addendum_coefficient          = 0; // h_aP / m of the basic rack
+    double      dedendum_coefficient          = 0; // h_fP / m of the basic rack
+    double      cutter_tip_radius_coefficient = 0; // rho_fP / m of the basic rack
+    double      tip_radius_mm                 = 0; // 0: from addendum and profile shift
+    double      bore_radius_mm                = 0;
+    double      crowning_um                   = 0; // lead crowning amplitude beta
+    double      tip_relief_um                 = 0; // C_a at the tip
+    double      tip_relief_length_mm          = 0; // along the line of action, from the tip
+    std::string tip_relief_shape;                  // linear | parabolic
+  };
+
+  struct MaterialScene
+  {
+    double youngs_modulus_MPa = 0;
+    double poisson_ratio      = 0;
+    double density_kg_per_m3  = 0;
+  };
+
+  struct OperatingScene
+  {
+    double torque_Nm          = 0; // on the pinion
+    double speed_rpm          = 0; // of the pinion
+    double center_distance_mm = 0; // 0: tight-mesh distance, backlash from thinned teeth
+    double backlash_mm        = 0; // total, along the line of action
+  };
+
+  struct EffectsScene
+  {
+    std::string backlash;                 // on | off
+    std::string hertzian_layer;           // dynamic | quasi-static | off
+    std::string contact_damping;          // hunt-crossley | lankarani-nikravesh | viscous-only
+    std::string mesh_stiffness_variation; // fourier | constant   (k_h)
+    std::string rest_stiffness_variation; // constant | fourier   (k)
+    std::string ste_excitation;           // off | table
+  };
+
+  struct FourierScene
+  {
+    double              k_rest_mean_N_per_m = 0;
+    std::vector<double> k_rest_amplitudes_N_per_m;
+    std::vector<double> k_rest_phases_rad;
+    double              k_hertz_mean_N_per_m_pow_n = 0;
+    std::vector<double> k_hertz_amplitudes_N_per_m_pow_n;
+    std::vector<double> k_hertz_phases_rad;
+  };
+
+  struct StiffnessScene
+  {
+    std::string           source; // fem | table | fourier | iso6336 | hertz-analytic
+    std::filesystem::path table_file; // resolved against the scene's folder
+    int                   positions_per_cycle = 0;
+    int                   harmonics           = 0;
+    double                hertz_exponent      = 0;
+    int                   fe_dimension        = 0;
+    int                   fe_level            = 0;
+    int                   fe_degree           = 0;
+    int                   contact_grid_profile_points = 0;
+    int                   contact_grid_face_points    = 0;
+    std::string           linear_solver; // direct | amg-cg
+    double                linear_solver_tolerance = 0;
+    FourierScene          fourier;
+  };
+
+  struct MeshScene
+  {
+    int teeth_per_sector  = 0;
+    int face_width_layers = 0;
+  };
+
+  struct DynamicsScene
+  {
+    std::string integrator; // rk4 | arkode-erk | cvode-bdf | ida
+    double      relative_tolerance   = 0;
+    double      absolute_tolerance_m = 0;
+    int         steps_per_period     = 0;
+    int         periods              = 0;
+    int         transient_periods    = 0;
+    int         samples_per_period   = 0;
+    std::string initial_state; // static | given
+    double      initial_dte_um              = 0;
+    double      initial_dte_rate_m_per_s    = 0;
+    double      initial_penetration_um      = 0;
+    std::string damping_from; // ratio | coefficient
+    double      damping_ratio               = 0;
+    double      damping_coefficient_N_s_per_m = 0;
+    double      alpha_s_per_m               = 0;
+    double      restitution_coefficient     = 0;
+    double      pinion_inertia_kg_m2        = 0; // 0: solid disc between bore and root radius
+    double      gear_inertia_kg_m2          = 0;
+  };
+
+  struct SweepScene
+  {
+    bool        enabled = false;
+    double      speed_min_rpm = 0;
+    double      speed_max_rpm = 0;
+    int         points        = 0;
+    std::string direction; // up | down | both
+    std::string mode;      // continuation | independent | both
+    int         periods_per_point           = 0;
+    int         transient_periods_per_point = 0;
+  };
+
+  struct OutputScene
+  {
+    int  timeseries_periods = 0;
+    bool write_fields       = true;
+    bool report             = true;
+  };
+
+  struct Scene
+  {
+    std::filesystem::path file; // empty for the built-in defaults
+    GearScene             pinion, gear;
+    MaterialScene         pinion_material, gear_material;
+    OperatingScene        operating;
+    EffectsScene          effects;
+    StiffnessScene        stiffness;
+    MeshScene             mesh;
+    DynamicsScene         dynamics;
+    SweepScene            sweep;
+    OutputScene           output;
+
+    // The whole parameter set as resolved (defaults + file + overrides), in .prm form.
+    std::string used_parameters_prm;
+    // Stable hash of used_parameters_prm.
+    std::string hash;
+  };
+
+  // One `--set "Section/Subsection/key=value"` override.
+  struct Override
+  {
+    std::string text;
+  };
+
+  // Read a scene (.prm or .json; an empty path gives the built-in defaults), apply overrides in
+  // order, check ranges and cross-field consistency. Throws InputError naming the file, line and
+  // key for anything wrong.
+  Scene load_scene(const std::filesystem::path &file, const std::vector<std::string> &overrides = {});
+
+  // The documented default scene in .prm form (what `hertzgear defaults` prints).
+  std::string default_scene_prm();
+
+  // Every key as a Markdown reference (docs/scenes.md is generated from it).
+  std::string scene_reference_markdown();
+
+  // The subset of used parameters that one stage reads, for the artifact cache: one line per
+  // "Section/key = value", sorted, for the listed sections (prefix match).
+  std::string scene_values_for(const Scene &scene, const std::vector<std::string> &section_prefixes);
+} // namespace hertzgear

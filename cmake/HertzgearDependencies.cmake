@@ -1,0 +1,32 @@
+# Every dependency is a Debian package (scripts/setup.sh installs them); nothing is downloaded.
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(SUNDIALS 6 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
+find_package(Threads REQUIRED)
+
+if(HERTZGEAR_WITH_FEM)
+  find_package(CLI11 REQUIRED)
+  find_package(deal.II 9.4 REQUIRED HINTS ${DEAL_II_DIR} $ENV{DEAL_II_DIR} /usr/share/cmake/deal.II)
+  # deal.II's imported target carries the libraries but not the include paths: wrap both in one
+  # interface target so that every consumer (and a downstream find_package(hertzgear)) gets them.
+  if(NOT TARGET ${DEAL_II_TARGET_RELEASE})
+    include(${DEAL_II_TARGET_CONFIG})
+  endif()
+  if(NOT TARGET hertzgear_dealii)
+    add_library(hertzgear_dealii INTERFACE)
+    target_include_directories(hertzgear_dealii SYSTEM INTERFACE ${DEAL_II_INCLUDE_DIRS})
+    target_link_libraries(hertzgear_dealii INTERFACE ${DEAL_II_TARGET_RELEASE})
+    target_compile_definitions(hertzgear_dealii INTERFACE ${DEAL_II_USER_DEFINITIONS})
+    target_compile_options(hertzgear_dealii INTERFACE -Wno-psabi)
+  endif()
+
+  find_path(GMSH_INCLUDE_DIR gmsh.h REQUIRED)
+  find_library(GMSH_LIBRARY gmsh REQUIRED)
+  if(NOT TARGET hertzgear_gmsh)
+    add_library(hertzgear_gmsh INTERFACE)
+    target_include_directories(hertzgear_gmsh SYSTEM INTERFACE ${GMSH_INCLUDE_DIR})
+    target_link_libraries(hertzgear_gmsh INTERFACE ${GMSH_LIBRARY})
+  endif()
+endif()

@@ -1,0 +1,33 @@
+# install() and an exported CMake package: a downstream project writes
+#   find_package(hertzgear REQUIRED)
+#   target_link_libraries(my_tool PRIVATE hertzgear::hertzgear_dynamics)
+include(CMakePackageConfigHelpers)
+
+set(_hg_targets hertzgear_common hertzgear_dynamics)
+if(HERTZGEAR_WITH_FEM)
+  list(APPEND _hg_targets hertzgear_meshing hertzgear_fem hertzgear_dealii hertzgear_gmsh)
+  install(TARGETS hertzgear RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
+
+install(TARGETS ${_hg_targets} EXPORT hertzgearTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+foreach(_dir common dynamics meshing fem)
+  if(_dir STREQUAL "common" OR _dir STREQUAL "dynamics" OR HERTZGEAR_WITH_FEM)
+    install(DIRECTORY ${CMAKE_SOURCE_DIR}/${_dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hertzgear/${_dir}
+            FILES_MATCHING PATTERN "*.h")
+  endif()
+endforeach()
+install(FILES ${HERTZGEAR_VERSION_H} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hertzgear)
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hertzgear)
+
+set(_cfgdir ${CMAKE_INSTALL_LIBDIR}/cmake/hertzgear)
+install(EXPORT hertzgearTargets NAMESPACE hertzgear:: DESTINATION ${_cfgdir})
+set(HERTZGEAR_CONFIG_WITH_FEM ${HERTZGEAR_WITH_FEM})
+configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/hertzgearConfig.cmake.in
+  ${CMAKE_BINARY_DIR}/hertzgearConfig.cmake INSTALL_DESTINATION ${_cfgdir})
+write_basic_package_version_file(${CMAKE_BINARY_DIR}/hertzgearConfigVersion.cmake
+  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMajorVersion)
+install(FILES ${CMAKE_BINARY_DIR}/hertzgearConfig.cmake ${CMAKE_BINARY_DIR}/hertzgearConfigVersion.cmake
+        DESTINATION ${_cfgdir})

@@ -1,0 +1,12 @@
+find_package(Git QUIET)
+set(GIT_REVISION "unknown")
+if(GIT_FOUND)
+  execute_process(COMMAND ${GIT_EXECUTABLE} -C ${GIT_DIR} describe --always --dirty --abbrev=12
+                  OUTPUT_VARIABLE _rev OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET RESULT_VARIABLE _rc)
+  if(_rc EQUAL 0 AND NOT _rev STREQUAL "")
+    set(GIT_REVISION ${_rev})
+  endif()
+endif()
+configure_file(${SRC} ${DST}.tmp @ONLY)
+execute_process(COMMAND ${CMAKE_COMMAND} -E copy_if_different ${DST}.tmp ${DST})
+file(REMOVE ${DST}.tmp)

@@ -1,0 +1,2 @@
+// Replaced by the FE sources.
+namespace hertzgear { int fem_placeholder = 0; }

@@ -1,0 +1,204 @@
+// Requirements on scene files: the paper's scenes carry Tables 1 and 2; overrides apply in order;
+// the printed defaults parse back to the same values; bad input names file, line and key.
+#include "app/scene.h"
+#include "common/errors.h"
+
+#include "tests/support/run_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+using namespace hertzgear;
+using hertzgear::testing::fresh_temp_dir;
+using hertzgear::testing::scene_path;
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+namespace
+{
+  fs::path write_scene(const std::string &name, const std::string &text)
+  {
+    const fs::path dir = fs::temp_directory_path() / "hertzgear_test_scenes";
+    fs::create_directories(dir);
+    std::ofstream(dir / name) << text;
+    return dir / name;
+  }
+
+  std::string input_error_of(const fs::path &file, const std::vector<std::string> &overrides = {})
+  {
+    try
+      {
+        load_scene(file, overrides);
+      }
+    catch (const InputError &e)
+      {
+        return e.what();
+      }
+    return "(no error)";
+  }
+} // namespace
+
+TEST(Scene, PaperCrownedCarriesTables1And2)
+{
+  const Scene s = load_scene(scene_path("paper_crowned.prm"));
+  EXPECT_EQ(s.pinion.teeth, 23);
+  EXPECT_EQ(s.gear.teeth, 34);
+  for (const GearScene *g : {&s.pinion, &s.gear})
+    {
+      EXPECT_DOUBLE_EQ(g->module_mm, 3.0);
+      EXPECT_DOUBLE_EQ(g->pressure_angle_deg, 20.0);
+      EXPECT_DOUBLE_EQ(g->face_width_mm, 20.0);
+      EXPECT_DOUBLE_EQ(g->crowning_um, 80.0);
+    }
+  for (const MaterialScene *m : {&s.pinion_material, &s.gear_material})
+    {
+      EXPECT_DOUBLE_EQ(m->youngs_modulus_MPa, 206000.0);
+      EXPECT_DOUBLE_EQ(m->poisson_ratio, 0.3);
+      EXPECT_DOUBLE_EQ(m->density_kg_per_m3, 7850.0);
+    }
+  EXPECT_DOUBLE_EQ(s.operating.backlash_mm, 0.1172);
+  EXPECT_DOUBLE_EQ(s.operating.torque_Nm, 210.0);
+  EXPECT_DOUBLE_EQ(s.operating.speed_rpm, 150.0);
+  EXPECT_DOUBLE_EQ(s.dynamics.damping_ratio, 0.015);
+  EXPECT_DOUBLE_EQ(s.dynamics.alpha_s_per_m, 0.26);
+  EXPECT_EQ(s.dynamics.periods, 800);
+  EXPECT_EQ(s.stiffness.positions_per_cycle, 9);
+  EXPECT_DOUBLE_EQ(s.stiffness.hertz_exponent, 1.5);
+  EXPECT_EQ(s.hash.size(), 16u);
+}
+
+TEST(Scene, PaperUncrownedDiffersOnlyWhereTable2Does)
+{
+  const Scene u = load_scene(scene_path("paper_uncrowned.prm"));
+  const Scene c = load_scene(scene_path("paper_crowned.prm"));
+  EXPECT_DOUBLE_EQ(u.pinion.crowning_um, 0.0);
+  EXPECT_DOUBLE_EQ(u.gear.crowning_um, 0.0);
+  EXPECT_DOUBLE_EQ(u.stiffness.hertz_exponent, 1.0);
+  EXPECT_NE(u.hash, c.hash);
+  // Dynamics-relevant values other than Table 2 are the same.
+  EXPECT_EQ(scene_values_for(u, {"Operating", "Material", "Dynamics"}),
+            scene_values_for(c, {"Operating", "Material", "Dynamics"}));
+}
+
+TEST(Scene, OverridesApplyInOrderAndChangeTheHash)
+{
+  const Scene base = load_scene(scene_path("paper_crowned.prm"));
+  const Scene s    = load_scene(scene_path("paper_crowned.prm"),
+                             {"Operating/speed_rpm=1000", "Gear pair/Pinion/crowning_um = 40",
+                              "Operating/speed_rpm=2000"});
+  EXPECT_DOUBLE_EQ(s.operating.speed_rpm, 2000.0);
+  EXPECT_DOUBLE_EQ(s.pinion.crowning_um, 40.0);
+  EXPECT_DOUBLE_EQ(s.gear.crowning_um, 80.0);
+  EXPECT_NE(s.hash, base.hash);
+  EXPECT_THAT(s.used_parameters_prm, HasSubstr("2000"));
+}
+
+TEST(Scene, PrintedDefaultsParseBackToTheSameValues)
+{
+  const fs::path file     = write_scene("defaults.prm", default_scene_prm());
+  const Scene    parsed   = load_scene(file);
+  const Scene    defaults = load_scene("");
+  EXPECT_EQ(parsed.hash, defaults.hash);
+  EXPECT_EQ(parsed.used_parameters_prm, defaults.used_parameters_prm);
+  // And the used parameters of a non-default scene parse back to the same scene.
+  const Scene    paper = load_scene(scene_path("paper_crowned.prm"), {"Sweep/points=7"});
+  const fs::path again = write_scene("used.prm", paper.used_parameters_prm);
+  EXPECT_EQ(load_scene(again).hash, paper.hash);
+}
+
+TEST(Scene, JsonScenesAreAccepted)
+{
+  const fs::path file = write_scene("small.json", R"({
+    "Gear pair": { "Pinion": { "teeth": "25" } },
+    "Operating": { "speed_rpm": "1200" }
+  })");
+  const Scene s = load_scene(file);
+  EXPECT_EQ(s.pinion.teeth, 25);
+  EXPECT_DOUBLE_EQ(s.operating.speed_rpm, 1200.0);
+  EXPECT_EQ(s.gear.teeth, 34);
+}
+
+TEST(SceneBadInput, MissingFileIsNamed)
+{
+  EXPECT_THAT(input_error_of("/nonexistent/scene.prm"),
+              HasSubstr("/nonexistent/scene.prm does not exist"));
+}
+
+TEST(SceneBadInput, UnknownKeyNamesFileLineAndKey)
+{
+  const fs::path file = write_scene("unknown_key.prm", "subsection Operating\n"
+                                                       "  set torque_Nm = 100\n"
+                                                       "  set torque_Nmm = 100\n"
+                                                       "end\n");
+  const std::string e = input_error_of(file);
+  EXPECT_THAT(e, HasSubstr("unknown_key.prm"));
+  EXPECT_THAT(e, HasSubstr("3")); // line
+  EXPECT_THAT(e, HasSubstr("torque_Nmm"));
+}
+
+TEST(SceneBadInput, UnknownSectionIsNamed)
+{
+  const fs::path file = write_scene("unknown_section.prm", "subsection Operatingg\n"
+                                                           "  set torque_Nm = 100\n"
+                                                           "end\n");
+  const std::string e = input_error_of(file);
+  EXPECT_THAT(e, HasSubstr("unknown_section.prm"));
+  EXPECT_THAT(e, HasSubstr("Operatingg"));
+}
+
+TEST(SceneBadInput, OutOfRangeValueNamesKeyAndRange)
+{
+  const fs::path file = write_scene("range.prm", "subsection Gear pair\n"
+                                                 "  subsection Pinion\n"
+                                                 "    set teeth = -3\n"
+                                                 "  end\n"
+                                                 "end\n");
+  const std::string e = input_error_of(file);
+  EXPECT_THAT(e, HasSubstr("range.prm"));
+  EXPECT_THAT(e, HasSubstr("teeth"));
+  EXPECT_THAT(e, HasSubstr("6...1000"));
+}
+
+TEST(SceneBadInput, MalformedNumberIsNamed)
+{
+  const fs::path file = write_scene("malformed.prm", "subsection Operating\n"
+                                                     "  set speed_rpm = 1.5.3\n"
+                                                     "end\n");
+  const std::string e = input_error_of(file);
+  EXPECT_THAT(e, HasSubstr("speed_rpm"));
+  EXPECT_THAT(e, HasSubstr("1.5.3"));
+}
+
+TEST(SceneBadInput, BadOverridesAreNamed)
+{
+  EXPECT_THAT(input_error_of("", {"Gear pair/Pinion/teeth=-3"}),
+              HasSubstr("Gear pair/Pinion/teeth is not allowed; allowed: [Integer range 6...1000"));
+  EXPECT_THAT(input_error_of("", {"Operating/speed=3"}), HasSubstr("unknown key \"speed\""));
+  EXPECT_THAT(input_error_of("", {"Operating/speed_rpm"}), HasSubstr("expected"));
+  EXPECT_THAT(input_error_of("", {"speed_rpm=3"}), HasSubstr("must name its section"));
+}
+
+TEST(SceneBadInput, ImpossibleGearPairIsRejected)
+{
+  // Requirement: spur gears in mesh share module and pressure angle.
+  EXPECT_THAT(input_error_of("", {"Gear pair/Gear/module_mm=4"}),
+              HasSubstr("impossible gear pair"));
+  EXPECT_THAT(input_error_of("", {"Gear pair/Gear/pressure_angle_deg=25"}),
+              HasSubstr("pressure angle"));
+  EXPECT_THAT(input_error_of("", {"Gear pair/Pinion/bore_radius_mm=40"}),
+              HasSubstr("bore_radius_mm = 40 is not inside the root circle"));
+}
+
+TEST(SceneBadInput, CrossFieldChecksNameBothValues)
+{
+  EXPECT_THAT(input_error_of("", {"Stiffness/positions_per_cycle=8", "Stiffness/harmonics=4"}),
+              HasSubstr("positions_per_cycle = 8 is too few"));
+  EXPECT_THAT(input_error_of("", {"Dynamics/transient_periods=900"}),
+              HasSubstr("transient_periods = 900"));
+  EXPECT_THAT(input_error_of("", {"Stiffness/source=table"}), HasSubstr("table_file"));
+  EXPECT_THAT(input_error_of("", {"Stiffness/fe_dimension=2",
+                                  "Gear pair/Pinion/crowning_um=10"}),
+              HasSubstr("crowning"));
+}
