@@ -28,6 +28,20 @@ int main(int argc, char **argv)
     registry.command_line += (i ? " " : "") + std::string(argv[i]);
   add_scene_commands(registry);
 
+  // CLI11 would call an unknown command "extra positional arguments"; name it instead.
+  if (argc > 1 && argv[1][0] != '-')
+    {
+      bool known = false;
+      for (const CLI::App *sub : app.get_subcommands({}))
+        known = known || sub->check_name(argv[1]);
+      if (!known)
+        {
+          std::cerr << "hertzgear: error: unknown command \"" << argv[1]
+                    << "\" (see hertzgear --help)" << std::endl;
+          return exit_bad_input;
+        }
+    }
+
   try
     {
       app.parse(argc, argv);

@@ -8,6 +8,8 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/patterns.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -221,7 +223,6 @@ namespace hertzgear
       s.leave();
 
       auto &st                       = sc.stiffness;
-      std::string table_file;
       st.source                      = "fem";
       st.positions_per_cycle         = 16;
       st.harmonics                   = 4;
@@ -238,7 +239,7 @@ namespace hertzgear
             "Stiffness source: fem (meshing + FE contact over the mesh cycle), table (a stiffness "
             "JSON file, see table_file), fourier (coefficients in subsection Fourier), iso6336 "
             "(ISO 6336-1 method B) or hertz-analytic (Hertz closed forms).");
-      s.add("table_file", table_file, Patterns::Anything(),
+      s.add("table_file", st.table_file_entry, Patterns::Anything(),
             "Stiffness JSON file for source = table (path relative to the scene file).");
       s.add("positions_per_cycle", st.positions_per_cycle, Patterns::Integer(1, 1024),
             "Number S of mesh positions per mesh cycle in the loaded TCA (count); S >= 2 "
@@ -408,13 +409,6 @@ namespace hertzgear
       s.add("report", out.report, Patterns::Bool(),
             "Write the HTML report with figures at the end of `hertzgear run`.");
       s.leave();
-
-      // The table file is a string entry; bind it to the path field through an action.
-      s.prm.enter_subsection("Stiffness");
-      s.prm.add_action("table_file", [&sc](const std::string &value) {
-        sc.stiffness.table_file = value;
-      });
-      s.prm.leave_subsection();
     }
 
     // deal.II's exception texts start with a source location meant for developers; users get
@@ -453,8 +447,13 @@ namespace hertzgear
       HG_REQUIRE_INPUT(slash != std::string::npos,
                        "--set \"", text, "\": the key must name its section, e.g. "
                        "\"Operating/speed_rpm=1000\"");
-      const std::string section = path.substr(0, slash);
-      const std::string key     = path.substr(slash + 1);
+      const auto trim = [](const std::string &t) {
+        const auto b = t.find_first_not_of(" \t");
+        const auto e = t.find_last_not_of(" \t");
+        return b == std::string::npos ? std::string() : t.substr(b, e - b + 1);
+      };
+      const std::string section = trim(path.substr(0, slash));
+      const std::string key     = trim(path.substr(slash + 1));
       const EntryInfo  *entry   = schema.find(section, key);
       HG_REQUIRE_INPUT(entry != nullptr, "--set \"", text, "\": unknown key \"", key,
                        "\" in section \"", section, "\" (see `hertzgear defaults`)");
@@ -571,6 +570,43 @@ namespace hertzgear
                        " must be less than Sweep/periods_per_point = ", w.periods_per_point);
     }
 
+    // A JSON scene is the same tree as a .prm file: objects are subsections, scalars (or
+    // {"value": ...} objects, as deal.II writes them) are entries, arrays are comma lists. It is
+    // converted to .prm text so that both formats share one parser and one set of checks; the
+    // comment on each line names the JSON path for error messages.
+    void json_to_prm(const nlohmann::json &node, const std::string &json_path, int depth,
+                     std::ostream &out)
+    {
+      const auto scalar_text = [](const nlohmann::json &v) -> std::string {
+        if (v.is_string())
+          return v.get<std::string>();
+        if (v.is_array())
+          {
+            std::string joined;
+            for (const auto &item : v)
+              joined += (joined.empty() ? "" : ", ") +
+                        (item.is_string() ? item.get<std::string>() : item.dump());
+            return joined;
+          }
+        return v.dump();
+      };
+      const std::string indent(2 * depth, ' ');
+      for (const auto &[key, value] : node.items())
+        {
+          const bool is_entry =
+            !value.is_object() || (value.contains("value") && !value["value"].is_object());
+          if (is_entry)
+            out << indent << "set " << key << " = "
+                << scalar_text(value.is_object() ? value["value"] : value) << "\n";
+          else
+            {
+              out << indent << "subsection " << key << "\n";
+              json_to_prm(value, json_path + "/" + key, depth + 1, out);
+              out << indent << "end\n";
+            }
+        }
+    }
+
     std::string print(ParameterHandler &prm, ParameterHandler::OutputStyle style)
     {
       std::ostringstream os;
@@ -600,7 +636,27 @@ namespace hertzgear
         }
         try
           {
-            schema.prm.parse_input(file.string(), "", false, false);
+            if (ext == ".json")
+              {
+                nlohmann::json tree;
+                try
+                  {
+                    std::ifstream in(file);
+                    tree = nlohmann::json::parse(in);
+                  }
+                catch (const nlohmann::json::exception &e)
+                  {
+                    throw InputError(msg("scene file ", file.string(), ": invalid JSON: ", e.what()));
+                  }
+                HG_REQUIRE_INPUT(tree.is_object(), "scene file ", file.string(),
+                                 ": a JSON scene must be an object of sections");
+                std::ostringstream prm_text;
+                json_to_prm(tree, "", 0, prm_text);
+                std::istringstream in(prm_text.str());
+                schema.prm.parse_input(in, file.string() + " (as .prm)", "", false);
+              }
+            else
+              schema.prm.parse_input(file.string(), "", false, false);
           }
         catch (const dealii::ExceptionBase &e)
           {
@@ -615,6 +671,7 @@ namespace hertzgear
     for (const auto &o : overrides)
       apply_override(schema, o);
 
+    sc.stiffness.table_file = sc.stiffness.table_file_entry;
     if (!sc.stiffness.table_file.empty() && sc.stiffness.table_file.is_relative() && !sc.file.empty())
       sc.stiffness.table_file = sc.file.parent_path() / sc.stiffness.table_file;
 

@@ -65,6 +65,7 @@ namespace hertzgear
   {
     std::string           source; // fem | table | fourier | iso6336 | hertz-analytic
     std::filesystem::path table_file; // resolved against the scene's folder
+    std::string           table_file_entry; // as written in the scene
     int                   positions_per_cycle = 0;
     int                   harmonics           = 0;
     double                hertz_exponent      = 0;

@@ -1,0 +1,238 @@
+#include "dynamics/stiffness_table.h"
+
+#include "common/atomic_file.h"
+#include "common/errors.h"
+
+#include <fftw3.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace hertzgear::dynamics
+{
+  namespace
+  {
+    constexpr const char *schema_name = "hertzgear-stiffness-table/1";
+
+    nlohmann::json series_to_json(const FourierSeries &s)
+    {
+      return {{"mean", s.mean}, {"amplitudes", s.amplitudes}, {"phases_rad", s.phases_rad}};
+    }
+
+    FourierSeries series_from_json(const nlohmann::json &j, const std::string &where)
+    {
+      HG_REQUIRE_INPUT(j.is_object(), where, ": expected an object with mean, amplitudes, phases_rad");
+      HG_REQUIRE_INPUT(j.contains("mean"), where, ": missing key 'mean'");
+      FourierSeries s;
+      s.mean = j.at("mean").get<double>();
+      if (j.contains("amplitudes"))
+        s.amplitudes = j.at("amplitudes").get<std::vector<double>>();
+      if (j.contains("phases_rad"))
+        s.phases_rad = j.at("phases_rad").get<std::vector<double>>();
+      if (s.phases_rad.empty())
+        s.phases_rad.assign(s.amplitudes.size(), 0.0);
+      HG_REQUIRE_INPUT(s.phases_rad.size() == s.amplitudes.size(), where, ": ",
+                       s.amplitudes.size(), " amplitudes but ", s.phases_rad.size(), " phases");
+      return s;
+    }
+
+    std::vector<double> optional_vector(const nlohmann::json &j, const char *key)
+    {
+      return j.contains(key) ? j.at(key).get<std::vector<double>>() : std::vector<double>{};
+    }
+  } // namespace
+
+  double FourierSeries::value(const double theta) const
+  {
+    double v = mean;
+    for (unsigned j = 0; j < amplitudes.size(); ++j)
+      v += amplitudes[j] * std::cos((j + 1) * theta - phases_rad[j]);
+    return v;
+  }
+
+  double FourierSeries::derivative(const double theta) const
+  {
+    double d = 0.0;
+    for (unsigned j = 0; j < amplitudes.size(); ++j)
+      d -= (j + 1) * amplitudes[j] * std::sin((j + 1) * theta - phases_rad[j]);
+    return d;
+  }
+
+  double FourierSeries::amplitude_bound() const
+  {
+    double b = 0.0;
+    for (const double a : amplitudes)
+      b += std::abs(a);
+    return b;
+  }
+
+  FourierSeries fit_fourier_series(const std::vector<double> &samples, const unsigned n_harmonics)
+  {
+    const int n_samples = samples.size();
+    HG_REQUIRE_INPUT(n_samples >= int(2 * n_harmonics + 1), "a Fourier fit of ", n_harmonics,
+                     " harmonics needs at least ", 2 * n_harmonics + 1, " samples per cycle, got ",
+                     n_samples);
+    std::vector<double>       in(samples);
+    std::vector<fftw_complex> out(n_samples / 2 + 1);
+    // FFTW_ESTIMATE does not overwrite the input while planning.
+    fftw_plan plan = fftw_plan_dft_r2c_1d(n_samples, in.data(), out.data(), FFTW_ESTIMATE);
+    fftw_execute(plan);
+    fftw_destroy_plan(plan);
+
+    // x_i = mean + sum_j a_j cos(j theta_i - phi_j)  <=>  X_j = (S/2) a_j e^{-i phi_j} for
+    // 0 < j < S/2 (FFTW's forward sign is e^{-2 pi i j k / S}).
+    FourierSeries s;
+    s.mean = out[0][0] / n_samples;
+    for (unsigned j = 1; j <= n_harmonics; ++j)
+      {
+        const bool   nyquist = (2 * int(j) == n_samples);
+        const double scale   = nyquist ? 1.0 / n_samples : 2.0 / n_samples;
+        const double re = out[j][0] * scale, im = out[j][1] * scale;
+        s.amplitudes.push_back(std::hypot(re, im));
+        s.phases_rad.push_back(std::atan2(-im, re));
+      }
+    return s;
+  }
+
+  void StiffnessTable::check() const
+  {
+    HG_REQUIRE_INPUT(hertz_exponent >= 1.0 && hertz_exponent <= 2.0,
+                     "stiffness table: hertz_exponent = ", hertz_exponent, " is outside [1, 2]");
+    for (const auto *s : {&k_rest_N_per_m, &k_hertz_N_per_m_pow_n, &unloaded_ste_m})
+      HG_REQUIRE_INPUT(s->amplitudes.size() == s->phases_rad.size(),
+                       "stiffness table: a Fourier series has ", s->amplitudes.size(),
+                       " amplitudes but ", s->phases_rad.size(), " phases");
+    HG_REQUIRE_INPUT(k_rest_N_per_m.mean > 0.0, "stiffness table: the mean rest stiffness k = ",
+                     k_rest_N_per_m.mean, " N/m must be positive");
+    HG_REQUIRE_INPUT(k_rest_N_per_m.amplitude_bound() < k_rest_N_per_m.mean,
+                     "stiffness table: the harmonics of k (sum of amplitudes ",
+                     k_rest_N_per_m.amplitude_bound(), " N/m) may make k negative (mean ",
+                     k_rest_N_per_m.mean, " N/m)");
+    HG_REQUIRE_INPUT(k_hertz_N_per_m_pow_n.mean >= 0.0, "stiffness table: k_mh = ",
+                     k_hertz_N_per_m_pow_n.mean, " must not be negative");
+    HG_REQUIRE_INPUT(k_hertz_N_per_m_pow_n.amplitude_bound() <= k_hertz_N_per_m_pow_n.mean,
+                     "stiffness table: the harmonics of k_h (sum of amplitudes ",
+                     k_hertz_N_per_m_pow_n.amplitude_bound(), ") may make k_h negative (mean ",
+                     k_hertz_N_per_m_pow_n.mean, ")");
+  }
+
+  StiffnessTable stiffness_table_from_json_text(const std::string &text, const std::string &where)
+  {
+    nlohmann::json j;
+    try
+      {
+        j = nlohmann::json::parse(text);
+      }
+    catch (const nlohmann::json::exception &e)
+      {
+        throw InputError(msg(where, ": not valid JSON: ", e.what()));
+      }
+    try
+      {
+        HG_REQUIRE_INPUT(j.is_object(), where, ": expected a JSON object");
+        if (j.contains("schema"))
+          HG_REQUIRE_INPUT(j.at("schema").get<std::string>() == schema_name, where,
+                           ": unknown schema '", j.at("schema").get<std::string>(), "' (expected ",
+                           schema_name, ")");
+        StiffnessTable t;
+        HG_REQUIRE_INPUT(j.contains("hertz_exponent"), where, ": missing key 'hertz_exponent'");
+        t.hertz_exponent = j.at("hertz_exponent").get<double>();
+        t.source         = j.value("source", std::string());
+
+        if (j.contains("samples"))
+          {
+            const auto &s          = j.at("samples");
+            t.samples.mesh_phase   = optional_vector(s, "mesh_phase");
+            t.samples.k_total_N_per_m       = optional_vector(s, "k_total_N_per_m");
+            t.samples.k_hertz_N_per_m_pow_n = optional_vector(s, "k_hertz_N_per_m_pow_n");
+            t.samples.k_rest_N_per_m        = optional_vector(s, "k_rest_N_per_m");
+            t.samples.ste_m                 = optional_vector(s, "ste_m");
+            t.samples.unloaded_ste_m        = optional_vector(s, "unloaded_ste_m");
+            const std::size_t n = t.samples.mesh_phase.size();
+            for (const auto *v : {&t.samples.k_total_N_per_m, &t.samples.k_hertz_N_per_m_pow_n,
+                                  &t.samples.k_rest_N_per_m, &t.samples.ste_m,
+                                  &t.samples.unloaded_ste_m})
+              HG_REQUIRE_INPUT(v->empty() || v->size() == n, where, ": samples: a series has ",
+                               v->size(), " values but mesh_phase has ", n);
+            for (std::size_t i = 0; i < n; ++i)
+              HG_REQUIRE_INPUT(std::abs(t.samples.mesh_phase[i] - double(i) / n) < 1e-9, where,
+                               ": samples: mesh_phase must be uniform i/S over one cycle (entry ",
+                               i, " is ", t.samples.mesh_phase[i], ")");
+          }
+        // Fourier series are given, or fitted here from uniform samples.
+        const unsigned n_fit = j.value("harmonics", (unsigned(t.samples.mesh_phase.size()) - 1) / 2);
+        auto series_or_fit = [&](const char *key, const std::vector<double> &samples,
+                                 FourierSeries &out) -> bool {
+          if (j.contains(key))
+            {
+              out = series_from_json(j.at(key), where + ": " + key);
+              return true;
+            }
+          if (!samples.empty())
+            {
+              out = fit_fourier_series(samples, n_fit);
+              return true;
+            }
+          return false;
+        };
+        HG_REQUIRE_INPUT(series_or_fit("k_rest_N_per_m", t.samples.k_rest_N_per_m, t.k_rest_N_per_m),
+                         where, ": needs 'k_rest_N_per_m' (Fourier) or samples.k_rest_N_per_m");
+        HG_REQUIRE_INPUT(series_or_fit("k_hertz_N_per_m_pow_n", t.samples.k_hertz_N_per_m_pow_n,
+                                       t.k_hertz_N_per_m_pow_n),
+                         where,
+                         ": needs 'k_hertz_N_per_m_pow_n' (Fourier) or samples.k_hertz_N_per_m_pow_n");
+        t.has_unloaded_ste =
+          series_or_fit("unloaded_ste_m", t.samples.unloaded_ste_m, t.unloaded_ste_m);
+        t.check();
+        return t;
+      }
+    catch (const nlohmann::json::exception &e)
+      {
+        throw InputError(msg(where, ": ", e.what()));
+      }
+  }
+
+  StiffnessTable read_stiffness_table(const std::filesystem::path &file)
+  {
+    std::ifstream in(file);
+    HG_REQUIRE_INPUT(in.good(), "cannot open the stiffness table ", file.string());
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return stiffness_table_from_json_text(ss.str(), file.string());
+  }
+
+  std::string stiffness_table_to_json_text(const StiffnessTable &t)
+  {
+    nlohmann::json j;
+    j["schema"]                = schema_name;
+    j["source"]                = t.source;
+    j["hertz_exponent"]        = t.hertz_exponent;
+    j["k_rest_N_per_m"]        = series_to_json(t.k_rest_N_per_m);
+    j["k_hertz_N_per_m_pow_n"] = series_to_json(t.k_hertz_N_per_m_pow_n);
+    if (t.has_unloaded_ste)
+      j["unloaded_ste_m"] = series_to_json(t.unloaded_ste_m);
+    if (!t.samples.empty())
+      {
+        nlohmann::json s;
+        s["mesh_phase"] = t.samples.mesh_phase;
+        auto put        = [&s](const char *key, const std::vector<double> &v) {
+          if (!v.empty())
+            s[key] = v;
+        };
+        put("k_total_N_per_m", t.samples.k_total_N_per_m);
+        put("k_hertz_N_per_m_pow_n", t.samples.k_hertz_N_per_m_pow_n);
+        put("k_rest_N_per_m", t.samples.k_rest_N_per_m);
+        put("ste_m", t.samples.ste_m);
+        put("unloaded_ste_m", t.samples.unloaded_ste_m);
+        j["samples"] = s;
+      }
+    return j.dump(2) + "\n";
+  }
+
+  void write_stiffness_table(const std::filesystem::path &file, const StiffnessTable &table)
+  {
+    write_file_atomically(file, stiffness_table_to_json_text(table));
+  }
+} // namespace hertzgear::dynamics

@@ -1,0 +1,68 @@
+#pragma once
+// The one contract between the FE stage and the dynamics: the mesh stiffness over a mesh cycle.
+// A plain value type plus its JSON form (schema in docs/architecture.md, "Stiffness table schema").
+// Everything is in SI units; the JSON keys carry their units.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hertzgear::dynamics
+{
+  // value(theta) = mean + sum_j amplitudes[j] cos((j+1) theta - phases[j]), theta = omega_m t the
+  // mesh phase angle (rad). The paper's eq. (4) with theta = omega_m t.
+  struct FourierSeries
+  {
+    double              mean = 0.0;
+    std::vector<double> amplitudes;
+    std::vector<double> phases_rad;
+
+    unsigned n_harmonics() const { return amplitudes.size(); }
+    double   value(double theta) const;
+    // d value / d theta.
+    double derivative(double theta) const;
+    // The same series without its harmonics (the mean only).
+    FourierSeries constant_part() const { return {mean, {}, {}}; }
+    // Largest value of |value - mean| bound: sum of |amplitudes|.
+    double amplitude_bound() const;
+  };
+
+  // Fit `n_harmonics` harmonics to `samples` taken at theta_i = 2 pi i / S, i = 0..S-1 (one mesh
+  // cycle), with FFTW's real-to-complex transform. Requires S >= 2 n_harmonics + 1.
+  FourierSeries fit_fourier_series(const std::vector<double> &samples, unsigned n_harmonics);
+
+  // Optional sampled series over one mesh cycle, as the FE stage computes them.
+  struct StiffnessSamples
+  {
+    std::vector<double> mesh_phase;        // in [0, 1): fraction of the mesh cycle
+    std::vector<double> k_total_N_per_m;   // total mesh stiffness (secant)
+    std::vector<double> k_hertz_N_per_m_pow_n;
+    std::vector<double> k_rest_N_per_m;
+    std::vector<double> ste_m;             // static transmission error along the line of action
+    std::vector<double> unloaded_ste_m;    // unloaded (geometric) transmission error
+
+    bool empty() const { return mesh_phase.empty(); }
+  };
+
+  struct StiffnessTable
+  {
+    double        hertz_exponent = 1.0; // n of F = k_h delta^n
+    FourierSeries k_rest_N_per_m;       // structural (rest) stiffness k
+    FourierSeries k_hertz_N_per_m_pow_n; // Hertzian stiffness k_h
+    // Unloaded STE as a displacement excitation along the line of action (m); empty series
+    // (mean 0, no harmonics) when the table has none.
+    FourierSeries    unloaded_ste_m;
+    bool             has_unloaded_ste = false;
+    StiffnessSamples samples;
+    std::string      source; // free text: which stage or scene produced the table
+
+    // Throws InputError for a table that cannot drive the dynamics (negative means, n out of
+    // [1, 2], amplitude and phase counts that differ, a k_h that may turn negative).
+    void check() const;
+  };
+
+  StiffnessTable read_stiffness_table(const std::filesystem::path &file);
+  StiffnessTable stiffness_table_from_json_text(const std::string &text,
+                                                const std::string &where = "stiffness table");
+  std::string    stiffness_table_to_json_text(const StiffnessTable &table);
+  void write_stiffness_table(const std::filesystem::path &file, const StiffnessTable &table);
+} // namespace hertzgear::dynamics
