@@ -49,5 +49,6 @@ namespace hertzgear
     run["wall_time_s"]   = timer.total_seconds();
     run.update(extra);
     write_json("run.json", run);
+    timer.print_summary(progress_stream());
   }
 } // namespace hertzgear
