@@ -1,5 +1,6 @@
 // `hertzgear check SCENE` and `hertzgear defaults`.
 #include "app/command.h"
+#include "app/meshing_setup.h"
 #include "app/run_directory.h"
 #include "app/scene.h"
 
@@ -16,6 +17,12 @@ namespace hertzgear
       {
         PhaseTimer::Scope scope(timer, "scene");
         scene = load_scene(ctx.scene_file, ctx.overrides);
+      }
+      {
+        // Impossible geometry (undercut, pointed tip, interference, eps_alpha < 1, jamming
+        // centre distance, ...) is bad input too.
+        PhaseTimer::Scope scope(timer, "geometry");
+        make_pair(scene);
       }
       std::cout << "# scene " << scene.file.string() << " is valid (hash " << scene.hash << ")\n"
                 << "# resolved parameters:\n"

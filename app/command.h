@@ -57,4 +57,12 @@ namespace hertzgear
 
   // Registration functions, one per command file.
   void add_scene_commands(CommandRegistry &registry); // check, defaults
+  void add_dynamics_commands(CommandRegistry &registry); // dynamics, sweep, accuracy dynamics
+  void add_geometry_commands(CommandRegistry &registry); // geometry, mesh
+  void add_report_command(CommandRegistry &registry); // report
+
+  // Figures and DIR/report/index.html (or report_dir) from the artifacts in run_dir; returns the
+  // exit code (2 when run_dir holds no artifact). Used by `report` and at the end of `run`.
+  int write_report(const std::filesystem::path &run_dir,
+                   const std::filesystem::path &report_dir = {});
 } // namespace hertzgear

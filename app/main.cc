@@ -27,6 +27,9 @@ int main(int argc, char **argv)
   for (int i = 0; i < argc; ++i)
     registry.command_line += (i ? " " : "") + std::string(argv[i]);
   add_scene_commands(registry);
+  add_dynamics_commands(registry);
+  add_geometry_commands(registry);
+  add_report_command(registry);
 
   // CLI11 would call an unknown command "extra positional arguments"; name it instead.
   if (argc > 1 && argv[1][0] != '-')

@@ -21,6 +21,10 @@ foreach(_dir common dynamics meshing fem)
 endforeach()
 install(FILES ${HERTZGEAR_VERSION_H} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hertzgear)
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hertzgear)
+if(HERTZGEAR_WITH_FEM)
+  install(PROGRAMS ${CMAKE_SOURCE_DIR}/scripts/hertzgear_report.py
+          DESTINATION ${CMAKE_INSTALL_DATADIR}/hertzgear/scripts)
+endif()
 
 set(_cfgdir ${CMAKE_INSTALL_LIBDIR}/cmake/hertzgear)
 install(EXPORT hertzgearTargets NAMESPACE hertzgear:: DESTINATION ${_cfgdir})

@@ -18,6 +18,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libfftw3-dev
   libboost-dev
   python3 python3-matplotlib python3-numpy python3-scipy
+  chromium
 )
 
 missing=()

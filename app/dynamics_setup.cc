@@ -1,0 +1,176 @@
+#include "app/dynamics_setup.h"
+
+#include "common/errors.h"
+
+#include <cmath>
+
+namespace hertzgear
+{
+  namespace
+  {
+    double base_radius_m(const GearScene &g)
+    {
+      return 1e-3 * g.module_mm * g.teeth * std::cos(g.pressure_angle_deg * M_PI / 180.0) / 2.0;
+    }
+
+    // Solid disc between the bore and the root circle r_f = m (z/2 - h_fP/m + x), over the face
+    // width: I = rho b pi (r_f^4 - r_bore^4) / 2.
+    double disc_inertia_kg_m2(const GearScene &g, const MaterialScene &mat)
+    {
+      const double r_f  = 1e-3 * g.module_mm * (g.teeth / 2.0 - g.dedendum_coefficient +
+                                               g.profile_shift_coefficient);
+      const double r_in = 1e-3 * g.bore_radius_mm;
+      HG_REQUIRE_INPUT(r_f > r_in, "root radius ", r_f * 1e3, " mm is not larger than the bore radius ",
+                       g.bore_radius_mm, " mm: give the inertias in Dynamics/*_inertia_kg_m2");
+      return mat.density_kg_per_m3 * 1e-3 * g.face_width_mm * M_PI *
+             (std::pow(r_f, 4) - std::pow(r_in, 4)) / 2.0;
+    }
+
+    dynamics::FourierSeries series(const double mean, const std::vector<double> &amplitudes,
+                                   const std::vector<double> &phases)
+    {
+      dynamics::FourierSeries s;
+      s.mean       = mean;
+      s.amplitudes = amplitudes;
+      s.phases_rad = phases.empty() ? std::vector<double>(amplitudes.size(), 0.0) : phases;
+      return s;
+    }
+  } // namespace
+
+  dynamics::StiffnessTable stiffness_table_for(const Scene &scene)
+  {
+    const auto &st = scene.stiffness;
+    dynamics::StiffnessTable table;
+    if (st.source == "fourier")
+      {
+        const auto &f        = st.fourier;
+        table.hertz_exponent = st.hertz_exponent;
+        table.k_rest_N_per_m =
+          series(f.k_rest_mean_N_per_m, f.k_rest_amplitudes_N_per_m, f.k_rest_phases_rad);
+        table.k_hertz_N_per_m_pow_n = series(f.k_hertz_mean_N_per_m_pow_n,
+                                             f.k_hertz_amplitudes_N_per_m_pow_n,
+                                             f.k_hertz_phases_rad);
+        table.source = "scene Stiffness/Fourier";
+        if (scene.effects.ste_excitation == "table")
+          {
+            const auto from_file = dynamics::read_stiffness_table(st.table_file);
+            table.unloaded_ste_m   = from_file.unloaded_ste_m;
+            table.has_unloaded_ste = from_file.has_unloaded_ste;
+          }
+      }
+    else if (st.source == "table")
+      {
+        table = dynamics::read_stiffness_table(st.table_file);
+        HG_REQUIRE_INPUT(std::abs(table.hertz_exponent - st.hertz_exponent) < 1e-12,
+                         "the stiffness table ", st.table_file.string(), " has hertz_exponent = ",
+                         table.hertz_exponent, " but the scene says Stiffness/hertz_exponent = ",
+                         st.hertz_exponent, "; make them agree");
+      }
+    else
+      throw InputError(msg(
+        "Stiffness/source = ", st.source,
+        " is produced by the stiffness stage (`hertzgear stiffness SCENE --out DIR` writes "
+        "stiffness.json); the dynamics reads stiffness from a table or from Fourier coefficients. "
+        "Run the stiffness stage and set Stiffness/source = table with Stiffness/table_file = "
+        "DIR/stiffness.json, or give the coefficients with Stiffness/source = fourier "
+        "(subsection Stiffness/Fourier)"));
+    table.check();
+    return table;
+  }
+
+  DynamicsSetup make_dynamics_setup(const Scene &scene)
+  {
+    DynamicsSetup s;
+    const auto   &d  = scene.dynamics;
+    const auto   &op = scene.operating;
+    HG_REQUIRE_INPUT(op.center_distance_mm == 0.0,
+                     "Operating/center_distance_mm = ", op.center_distance_mm,
+                     ": the dynamics takes the backlash along the line of action from "
+                     "Operating/backlash_mm; set center_distance_mm = 0 and give backlash_mm");
+    auto &p                = s.parameters;
+    p.stiffness            = stiffness_table_for(scene);
+    p.effects.backlash     = scene.effects.backlash == "on";
+    p.effects.hertzian_layer  = dynamics::hertzian_layer_from_name(scene.effects.hertzian_layer);
+    p.effects.contact_damping = dynamics::contact_damping_from_name(scene.effects.contact_damping);
+    p.effects.mesh_stiffness_variation = scene.effects.mesh_stiffness_variation == "fourier";
+    p.effects.rest_stiffness_variation = scene.effects.rest_stiffness_variation == "fourier";
+    p.effects.ste_excitation           = scene.effects.ste_excitation == "table";
+
+    s.pinion_base_radius_m = base_radius_m(scene.pinion);
+    s.gear_base_radius_m   = base_radius_m(scene.gear);
+    s.pinion_inertia_kg_m2 = d.pinion_inertia_kg_m2 > 0 ?
+                               d.pinion_inertia_kg_m2 :
+                               disc_inertia_kg_m2(scene.pinion, scene.pinion_material);
+    s.gear_inertia_kg_m2   = d.gear_inertia_kg_m2 > 0 ?
+                               d.gear_inertia_kg_m2 :
+                               disc_inertia_kg_m2(scene.gear, scene.gear_material);
+    p.equivalent_mass_kg   = dynamics::equivalent_mass(s.pinion_inertia_kg_m2, s.gear_inertia_kg_m2,
+                                                     s.pinion_base_radius_m, s.gear_base_radius_m);
+    p.static_force_N       = op.torque_Nm / s.pinion_base_radius_m;
+    // Operating/backlash_mm is the total backlash along the line of action: b_c is half of it.
+    p.half_backlash_m      = 0.5e-3 * op.backlash_mm;
+    s.speed_rpm            = op.speed_rpm;
+    HG_REQUIRE_INPUT(op.speed_rpm > 0.0, "Operating/speed_rpm must be > 0 for the dynamics");
+    p.mesh_frequency_rad_per_s = 2.0 * M_PI * scene.pinion.teeth * op.speed_rpm / 60.0;
+    p.alpha_s_per_m            = d.alpha_s_per_m;
+    p.restitution_coefficient  = d.restitution_coefficient;
+    s.equivalent_stiffness_N_per_m =
+      dynamics::equivalent_mesh_stiffness(p.stiffness, p.effects.hertzian_layer, p.static_force_N);
+    p.damping_N_s_per_m = d.damping_from == "ratio" ?
+                            2.0 * d.damping_ratio *
+                              std::sqrt(s.equivalent_stiffness_N_per_m * p.equivalent_mass_kg) :
+                            d.damping_coefficient_N_s_per_m;
+    if (p.damping_N_s_per_m == 0.0 && p.effects.hertzian_layer == dynamics::HertzianLayer::dynamic)
+      HG_REQUIRE_INPUT(d.integrator == "ida",
+                       "the mesh damping c is 0, which makes the penetration equation of the "
+                       "dynamic Hertzian layer algebraic (a DAE): use Dynamics/integrator = ida, "
+                       "or give c > 0");
+
+    auto &r                          = s.run;
+    r.integrator.kind                = dynamics::integrator_kind_from_name(d.integrator);
+    r.integrator.relative_tolerance  = d.relative_tolerance;
+    r.integrator.absolute_tolerance  = d.absolute_tolerance_m;
+    r.periods                        = d.periods;
+    r.transient_periods              = d.transient_periods;
+    r.samples_per_period             = d.samples_per_period;
+    r.steps_per_period               = d.steps_per_period;
+    HG_REQUIRE_INPUT(r.periods > r.transient_periods, "Dynamics/periods = ", r.periods,
+                     " must exceed Dynamics/transient_periods = ", r.transient_periods);
+    return s;
+  }
+
+  DynamicsSetup at_speed(const DynamicsSetup &setup, const double speed_rpm)
+  {
+    DynamicsSetup s = setup;
+    s.parameters.mesh_frequency_rad_per_s *= speed_rpm / setup.speed_rpm;
+    s.speed_rpm = speed_rpm;
+    return s;
+  }
+
+  std::vector<double> initial_state(const Scene &scene, const dynamics::GearPairModel &model)
+  {
+    const auto &d = scene.dynamics;
+    if (d.initial_state == "static")
+      return model.static_equilibrium_state();
+    return model.state(1e-6 * d.initial_dte_um, d.initial_dte_rate_m_per_s,
+                       1e-6 * d.initial_penetration_um);
+  }
+
+  nlohmann::json DynamicsSetup::describe() const
+  {
+    const auto &p = parameters;
+    return {{"equivalent_mass_kg", p.equivalent_mass_kg},
+            {"pinion_inertia_kg_m2", pinion_inertia_kg_m2},
+            {"gear_inertia_kg_m2", gear_inertia_kg_m2},
+            {"pinion_base_radius_mm", 1e3 * pinion_base_radius_m},
+            {"gear_base_radius_mm", 1e3 * gear_base_radius_m},
+            {"half_backlash_um", 1e6 * p.half_backlash_m},
+            {"mesh_frequency_Hz", p.mesh_frequency_rad_per_s / (2 * M_PI)},
+            {"damping_N_s_per_m", p.damping_N_s_per_m},
+            {"equivalent_stiffness_N_per_m", equivalent_stiffness_N_per_m},
+            {"hertz_exponent", p.stiffness.hertz_exponent},
+            {"k_rest_mean_N_per_m", p.stiffness.k_rest_N_per_m.mean},
+            {"k_hertz_mean_N_per_m_pow_n", p.stiffness.k_hertz_N_per_m_pow_n.mean},
+            {"stiffness_source", p.stiffness.source}};
+  }
+} // namespace hertzgear

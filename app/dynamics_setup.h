@@ -1,0 +1,39 @@
+#pragma once
+// Scene -> dynamics model: the one place where scene units (mm, rpm, N m, um) become the SI values
+// of the gear-pair model, and where the stiffness source of the scene is resolved.
+#include "app/scene.h"
+#include "dynamics/analysis.h"
+#include "dynamics/gear_pair_model.h"
+
+#include <nlohmann/json.hpp>
+
+#include <vector>
+
+namespace hertzgear
+{
+  struct DynamicsSetup
+  {
+    dynamics::GearPairParameters parameters;
+    dynamics::RunSettings        run;
+    double pinion_inertia_kg_m2 = 0.0, gear_inertia_kg_m2 = 0.0;
+    double pinion_base_radius_m = 0.0, gear_base_radius_m = 0.0;
+    double equivalent_stiffness_N_per_m = 0.0; // for the damping ratio
+    double speed_rpm                    = 0.0;
+
+    // What the summary records about the model (units in the keys).
+    nlohmann::json describe() const;
+  };
+
+  // The stiffness table the scene asks for. fem, iso6336 and hertz-analytic are produced by the
+  // stiffness stage: they raise an InputError that says how to proceed.
+  dynamics::StiffnessTable stiffness_table_for(const Scene &scene);
+
+  // Throws InputError for a scene the dynamics cannot run (unknown source, c = 0 without ida...).
+  DynamicsSetup make_dynamics_setup(const Scene &scene);
+
+  // The same set-up at another pinion speed (sweeps).
+  DynamicsSetup at_speed(const DynamicsSetup &setup, double speed_rpm);
+
+  // Initial state per Dynamics/initial_state (static equilibrium or the given values).
+  std::vector<double> initial_state(const Scene &scene, const dynamics::GearPairModel &model);
+} // namespace hertzgear

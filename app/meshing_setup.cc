@@ -1,0 +1,53 @@
+#include "app/meshing_setup.h"
+
+#include <cmath>
+
+namespace hertzgear
+{
+  meshing::GearParameters gear_parameters(const GearScene &g, const std::string &name)
+  {
+    meshing::GearParameters p;
+    p.teeth                         = g.teeth;
+    p.module_mm                     = g.module_mm;
+    p.pressure_angle_rad            = g.pressure_angle_deg * M_PI / 180;
+    p.face_width_mm                 = g.face_width_mm;
+    p.profile_shift_coefficient     = g.profile_shift_coefficient;
+    p.addendum_coefficient          = g.addendum_coefficient;
+    p.dedendum_coefficient          = g.dedendum_coefficient;
+    p.cutter_tip_radius_coefficient = g.cutter_tip_radius_coefficient;
+    p.tip_radius_mm                 = g.tip_radius_mm;
+    p.bore_radius_mm                = g.bore_radius_mm;
+    p.crowning_mm                   = g.crowning_um * 1e-3;
+    p.tip_relief_mm                 = g.tip_relief_um * 1e-3;
+    p.tip_relief_length_mm          = g.tip_relief_length_mm;
+    p.tip_relief_shape = g.tip_relief_shape == "parabolic" ? meshing::TipReliefShape::parabolic :
+                                                             meshing::TipReliefShape::linear;
+    p.name = name;
+    return p;
+  }
+
+  meshing::PairParameters pair_parameters(const Scene &scene)
+  {
+    meshing::PairParameters p;
+    p.pinion             = gear_parameters(scene.pinion, "pinion");
+    p.gear               = gear_parameters(scene.gear, "gear");
+    p.center_distance_mm = scene.operating.center_distance_mm;
+    p.backlash_loa_mm    = scene.operating.center_distance_mm > 0 ? 0 : scene.operating.backlash_mm;
+    return p;
+  }
+
+  meshing::MeshSettings mesh_settings(const Scene &scene, const int dimension)
+  {
+    meshing::MeshSettings s;
+    s.dimension          = dimension;
+    s.teeth_per_sector   = scene.mesh.teeth_per_sector;
+    s.face_width_layers  = scene.mesh.face_width_layers;
+    s.refinement_level   = scene.stiffness.fe_level;
+    return s;
+  }
+
+  meshing::PairKinematics make_pair(const Scene &scene)
+  {
+    return meshing::PairKinematics(pair_parameters(scene));
+  }
+} // namespace hertzgear

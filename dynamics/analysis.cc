@@ -1,0 +1,198 @@
+#include "dynamics/analysis.h"
+
+#include "common/errors.h"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hertzgear::dynamics
+{
+  SimulationResult simulate(GearPairModel &model, const RunSettings &settings,
+                            std::vector<double> y, const ProgressCallback &progress)
+  {
+    HG_REQUIRE_INPUT(settings.periods > settings.transient_periods,
+                     "Dynamics/periods (", settings.periods, ") must exceed transient_periods (",
+                     settings.transient_periods, ")");
+    HG_REQUIRE_INPUT(settings.samples_per_period >= 1, "samples_per_period must be >= 1");
+    HG_REQUIRE_INPUT(y.size() == model.n_states(), "initial state has ", y.size(),
+                     " components, the model ", model.n_states());
+    const double T  = model.mesh_period();
+    const int    S  = settings.samples_per_period;
+    IntegratorSettings is = settings.integrator;
+    if (is.kind == IntegratorKind::rk4)
+      is.fixed_step = T / settings.steps_per_period;
+    auto integrator = make_integrator(is);
+
+    SimulationResult result;
+    result.mesh_period_s      = T;
+    result.samples_per_period = S;
+    result.steady_periods     = settings.periods - settings.transient_periods;
+    result.steady.reserve(std::size_t(result.steady_periods) * S + 1);
+
+    const long first_steady = long(settings.transient_periods) * S;
+    long       index        = 0;
+    bool       skip_first   = false;
+    auto       observer     = [&](const double t, const double *state) {
+      if (skip_first)
+        {
+          skip_first = false; // the chunk's start repeats the previous chunk's end
+          return;
+        }
+      if (index >= first_steady)
+        {
+          const MeshState ms = model.mesh_state(t, state);
+          result.steady.push_back({t, ms.dte_m, ms.dte_rate_m_per_s, ms.penetration_m, ms.force_N,
+                                   ms.contact});
+          if ((index - first_steady) % S == 0)
+            result.poincare.push_back({t, state[0], state[1]});
+        }
+      ++index;
+    };
+
+    // Chunks of about a tenth of the run, for progress lines.
+    const int chunk = std::max(1, settings.periods / 10);
+    for (int done = 0; done < settings.periods;)
+      {
+        const int n = std::min(chunk, settings.periods - done);
+        integrator->integrate(model, done * T, y, T / S, long(n) * S, observer);
+        skip_first = true;
+        done += n;
+        if (progress)
+          progress(done, settings.periods);
+      }
+    result.final_state = y;
+    result.stats       = integrator->stats();
+    return result;
+  }
+
+  int period_multiplicity(const std::vector<PoincarePoint> &p, const double x_scale,
+                          const double v_scale, const double relative_tolerance, const int max_k)
+  {
+    const double tol_x = relative_tolerance * x_scale, tol_v = relative_tolerance * v_scale;
+    for (int k = 1; k <= max_k; ++k)
+      {
+        const int n_check = 2 * k + 8;
+        if (int(p.size()) < n_check + k)
+          return 0;
+        bool periodic = true;
+        for (int j = int(p.size()) - n_check - k; j + k < int(p.size()) && periodic; ++j)
+          periodic = std::abs(p[j + k].dte_m - p[j].dte_m) <= tol_x &&
+                     std::abs(p[j + k].dte_rate_m_per_s - p[j].dte_rate_m_per_s) <= tol_v;
+        if (periodic)
+          return k;
+      }
+    return 0;
+  }
+
+  std::vector<ImpactLoop> force_penetration_loops(const SimulationResult &r)
+  {
+    // A contact episode is a run of samples with force-carrying contact between samples without.
+    // Its loop is closed through the neighbouring separated samples (F = 0 there).
+    std::vector<ImpactLoop> loops;
+    const auto             &s = r.steady;
+    std::size_t             i = 0;
+    while (i < s.size() && s[i].contact != 0)
+      ++i; // an episode already under way at the window's start is not a whole loop
+    while (i < s.size())
+      {
+        while (i < s.size() && s[i].contact == 0)
+          ++i;
+        if (i >= s.size())
+          break;
+        const std::size_t begin = i - 1; // separated sample before
+        while (i < s.size() && s[i].contact != 0)
+          ++i;
+        if (i >= s.size())
+          break; // not closed within the window
+        const std::size_t end = i; // separated sample after
+        ImpactLoop        loop;
+        loop.start_s = s[begin + 1].t_s;
+        loop.end_s   = s[end - 1].t_s;
+        for (std::size_t j = begin; j < end; ++j)
+          {
+            loop.energy_dissipated_J += 0.5 * (s[j].force_N + s[j + 1].force_N) *
+                                        (s[j + 1].penetration_m - s[j].penetration_m);
+            loop.max_force_N = std::max(loop.max_force_N, std::abs(s[j + 1].force_N));
+            loop.max_penetration_m =
+              std::max(loop.max_penetration_m, std::abs(s[j + 1].penetration_m));
+          }
+        loops.push_back(loop);
+      }
+    return loops;
+  }
+
+  SteadyStateSummary analyse(const GearPairModel &model, const SimulationResult &r)
+  {
+    SteadyStateSummary sum;
+    sum.static_force_N = model.parameters().static_force_N;
+    const auto &s      = r.steady;
+    HG_REQUIRE_NUMERIC(s.size() >= 2, "no steady samples to analyse");
+    // Whole periods: the last sample repeats the phase of the first, leave it out of the means.
+    const std::size_t n = s.size() - 1;
+    double            sum_x = 0, sum_x2 = 0, sum_f = 0;
+    sum.min_dte_m = sum.max_dte_m = s[0].dte_m;
+    std::size_t n_lost = 0, n_losses = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        sum_x += s[i].dte_m;
+        sum_x2 += s[i].dte_m * s[i].dte_m;
+        sum_f += s[i].force_N;
+        sum.min_dte_m         = std::min(sum.min_dte_m, s[i].dte_m);
+        sum.max_dte_m         = std::max(sum.max_dte_m, s[i].dte_m);
+        sum.max_force_N       = std::max(sum.max_force_N, s[i].force_N);
+        sum.max_penetration_m = std::max(sum.max_penetration_m, std::abs(s[i].penetration_m));
+        n_lost += s[i].contact == 0;
+        if (i > 0 && s[i - 1].contact != 0 && s[i].contact == 0)
+          ++n_losses;
+        if (i > 0 && s[i - 1].contact != -1 && s[i].contact == -1)
+          ++sum.backside_impacts;
+      }
+    sum.mean_dte_m            = sum_x / n;
+    sum.rms_dte_m             = std::sqrt(sum_x2 / n);
+    sum.rms_dte_fluctuation_m =
+      std::sqrt(std::max(0.0, sum_x2 / n - sum.mean_dte_m * sum.mean_dte_m));
+    sum.mean_force_N              = sum_f / n;
+    sum.dynamic_factor            = sum.static_force_N > 0 ? sum.max_force_N / sum.static_force_N : 0;
+    sum.contact_loss_fraction     = double(n_lost) / n;
+    sum.contact_losses_per_period = double(n_losses) / r.steady_periods;
+    double max_rate = 0.0;
+    for (const auto &sample : s)
+      max_rate = std::max(max_rate, std::abs(sample.dte_rate_m_per_s));
+    sum.period_multiplicity =
+      period_multiplicity(r.poincare, sum.max_dte_m - sum.min_dte_m, max_rate);
+    const auto loops              = force_penetration_loops(r);
+    sum.n_impacts                 = loops.size();
+    for (const auto &l : loops)
+      sum.mean_energy_per_impact_J += l.energy_dissipated_J / loops.size();
+    return sum;
+  }
+
+  std::vector<SpectrumLine> dte_spectrum(const SimulationResult &r)
+  {
+    const int n = int(r.steady.size()) - 1; // whole periods
+    std::vector<SpectrumLine> lines;
+    if (n < 2)
+      return lines;
+    std::vector<double> in(n);
+    double              mean = 0;
+    for (int i = 0; i < n; ++i)
+      mean += r.steady[i].dte_m / n;
+    for (int i = 0; i < n; ++i)
+      in[i] = r.steady[i].dte_m - mean;
+    std::vector<fftw_complex> out(n / 2 + 1);
+    fftw_plan plan = fftw_plan_dft_r2c_1d(n, in.data(), out.data(), FFTW_ESTIMATE);
+    fftw_execute(plan);
+    fftw_destroy_plan(plan);
+    const double dt = r.mesh_period_s / r.samples_per_period;
+    const double df = 1.0 / (n * dt);
+    for (int j = 0; j <= n / 2; ++j)
+      {
+        const double scale = (j == 0 || 2 * j == n) ? 1.0 / n : 2.0 / n;
+        lines.push_back({j * df, j * df * r.mesh_period_s,
+                         scale * std::hypot(out[j][0], out[j][1])});
+      }
+    return lines;
+  }
+} // namespace hertzgear::dynamics

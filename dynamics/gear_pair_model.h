@@ -1,0 +1,148 @@
+#pragma once
+// The gear-pair model along the line of action (docs/dynamics.md), assembled from only the effects
+// a scene asks for:
+//   m_e x'' = F_0 - F,  F the mesh force through the structural spring k and damper c in series
+//   with the Hertzian layer k_h(t) G(delta) + mu H(delta) delta'.
+// State (x, x') without a dynamic Hertzian layer, (x, x', delta) with one. SI units throughout.
+#include "dynamics/ode_system.h"
+#include "dynamics/stiffness_table.h"
+
+#include <string>
+
+namespace hertzgear::dynamics
+{
+  enum class HertzianLayer
+  {
+    dynamic,
+    quasi_static,
+    off
+  };
+
+  enum class ContactDamping
+  {
+    hunt_crossley,
+    lankarani_nikravesh,
+    viscous_only
+  };
+
+  struct Effects
+  {
+    bool           backlash                 = true;
+    HertzianLayer  hertzian_layer           = HertzianLayer::dynamic;
+    ContactDamping contact_damping          = ContactDamping::hunt_crossley;
+    bool           mesh_stiffness_variation = true;  // k_h(t) Fourier, else its mean
+    bool           rest_stiffness_variation = false; // k(t) Fourier, else its mean
+    bool           ste_excitation           = false; // unloaded STE e(t) from the table
+
+    // "backlash=on hertzian_layer=dynamic ..." (the scene's words).
+    std::string describe() const;
+  };
+
+  HertzianLayer  hertzian_layer_from_name(const std::string &name);
+  ContactDamping contact_damping_from_name(const std::string &name);
+
+  struct GearPairParameters
+  {
+    double         equivalent_mass_kg         = 0.0;
+    double         static_force_N             = 0.0; // F_0 = T_1 / r_b1
+    double         half_backlash_m            = 0.0; // b_c
+    double         mesh_frequency_rad_per_s   = 0.0; // omega_m
+    double         damping_N_s_per_m          = 0.0; // c of the structural mesh spring
+    double         alpha_s_per_m              = 0.26; // Hunt-Crossley
+    double         restitution_coefficient    = 0.9; // Lankarani-Nikravesh
+    StiffnessTable stiffness;
+    Effects        effects;
+    // Library option, not a scene effect: k -> infinity, i.e. the Hertzian layer alone
+    // (delta = f(x), state (x, x')). Used to check a contact law in isolation.
+    bool rigid_structure = false;
+  };
+
+  // Equivalent mass along the line of action, m_e = I1 I2 / (I1 r_b2^2 + I2 r_b1^2).
+  double equivalent_mass(double pinion_inertia_kg_m2, double gear_inertia_kg_m2,
+                         double pinion_base_radius_m, double gear_base_radius_m);
+
+  // Linearised mesh stiffness at the static load: k in series with the tangent Hertzian stiffness
+  // n k_mh delta_s^(n-1), k_mh delta_s^n = F_0. Used for c = 2 zeta sqrt(k_eq m_e). With no load
+  // and n > 1 the tangent Hertzian stiffness vanishes; then k alone is used.
+  double equivalent_mesh_stiffness(const StiffnessTable &table, HertzianLayer layer,
+                                   double static_force_N);
+
+  // Where the mesh is at one instant: all the derived quantities the analysis writes.
+  struct MeshState
+  {
+    double dte_m         = 0.0; // x
+    double dte_rate_m_per_s = 0.0;
+    double penetration_m = 0.0; // delta (dynamic or quasi-static layer), f(x) when rigid, else 0
+    double force_N       = 0.0; // F
+    int    contact       = 0;   // 1 forward, 0 no force-carrying contact, -1 back side
+    double dissipation_W = 0.0; // c u'^2 + mu H(delta) delta'^2 (>= 0)
+    double elastic_energy_J = 0.0; // k u^2 / 2 + k_h |delta|^(n+1) / (n+1)
+  };
+
+  class GearPairModel : public OdeSystem
+  {
+  public:
+    explicit GearPairModel(GearPairParameters parameters);
+
+    const GearPairParameters &parameters() const { return prm; }
+
+    unsigned n_states() const override { return has_delta_state ? 3 : 2; }
+    void     rhs(double t, const double *y, double *y_dot) override;
+    bool     has_jacobian() const override;
+    void     jacobian(double t, const double *y, double *jac) const override;
+    unsigned n_roots() const override { return n_root_functions; }
+    void     roots(double t, const double *y, double *g) const override;
+    bool     handle_event(double t, double *y, const int *directions) override;
+    void     residual(double t, const double *y, const double *y_dot, double *r) override;
+    std::vector<double> differential_components() const override;
+    void consistent_initial_derivative(double t, double *y, double *y_dot) override;
+    std::vector<double> absolute_tolerances(double displacement_tolerance) const override;
+    std::string         describe_state(const double *y) const override;
+    std::vector<double> blow_up_bounds() const override;
+
+    MeshState mesh_state(double t, const double *y) const;
+
+    // Static equilibrium under F_0 with the mean stiffness (forward contact; the middle of the
+    // backlash when F_0 = 0).
+    std::vector<double> static_equilibrium_state() const;
+    // A state from x, x' and delta (delta ignored without a dynamic layer).
+    std::vector<double> state(double x_m, double x_dot_m_per_s, double delta_m) const;
+
+    // Mesh period 2 pi / omega_m [s].
+    double mesh_period() const;
+    // Unloaded STE excitation e(t) and its rate (0 when the effect is off).
+    double excitation(double t) const;
+    // Characteristic displacement b_c + F_0/k + |e| used for tolerances and bounds [m].
+    double characteristic_displacement() const { return x_scale; }
+    // The damping coefficient mu of the Hertzian layer now (N s / m^(n+1)).
+    double contact_damping_coefficient() const { return mu; }
+
+  private:
+    struct Forces
+    {
+      int    zone      = 0; // sign of the backlash zone: +1 forward, -1 back, 0 separated
+      double f         = 0; // f(p), p = x - e
+      double f_dot     = 0;
+      double delta_dot = 0;
+      double force     = 0;
+      double u_dot     = 0; // rate of the structural compression u = f - delta
+      bool   layer_closed = false;
+      double penetration  = 0;
+    };
+    Forces evaluate(double t, const double *y) const;
+    double k_rest(double t) const;
+    double k_rest_rate(double t) const;
+    double k_hertz(double t) const;
+    double k_hertz_rate(double t) const;
+    // delta from k (f - delta) = k_h G(delta) by Newton safeguarded with bisection.
+    double quasi_static_penetration(double f, double k, double kh) const;
+
+    GearPairParameters prm;
+    bool               has_delta_state  = false;
+    unsigned           n_root_functions = 0;
+    double             n_exp            = 1.0;
+    double             b_c              = 0.0;
+    double             mu               = 0.0; // current contact damping coefficient
+    double             x_scale          = 0.0;
+  };
+} // namespace hertzgear::dynamics

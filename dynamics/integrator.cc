@@ -1,0 +1,184 @@
+#include "dynamics/integrator.h"
+
+#include "common/errors.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace hertzgear::dynamics
+{
+  // Defined in sundials_integrators.cc.
+  std::unique_ptr<Integrator> make_arkode_erk(const IntegratorSettings &settings);
+  std::unique_ptr<Integrator> make_cvode_bdf(const IntegratorSettings &settings);
+  std::unique_ptr<Integrator> make_arkode_dirk(const IntegratorSettings &settings);
+  std::unique_ptr<Integrator> make_ida(const IntegratorSettings &settings);
+
+  IntegratorKind integrator_kind_from_name(const std::string &name)
+  {
+    if (name == "rk4")
+      return IntegratorKind::rk4;
+    if (name == "arkode-erk")
+      return IntegratorKind::arkode_erk;
+    if (name == "cvode-bdf")
+      return IntegratorKind::cvode_bdf;
+    if (name == "arkode-dirk")
+      return IntegratorKind::arkode_dirk;
+    if (name == "ida")
+      return IntegratorKind::ida;
+    throw InputError(msg("unknown integrator '", name, "' (rk4 | arkode-erk | arkode-dirk | cvode-bdf | ida)"));
+  }
+
+  std::string integrator_name(const IntegratorKind kind)
+  {
+    switch (kind)
+      {
+        case IntegratorKind::rk4:
+          return "rk4";
+        case IntegratorKind::arkode_erk:
+          return "arkode-erk";
+        case IntegratorKind::cvode_bdf:
+          return "cvode-bdf";
+        case IntegratorKind::arkode_dirk:
+          return "arkode-dirk";
+        case IntegratorKind::ida:
+          return "ida";
+      }
+    return "?";
+  }
+
+  IntegratorStats &IntegratorStats::operator+=(const IntegratorStats &o)
+  {
+    steps += o.steps;
+    rejected_steps += o.rejected_steps;
+    rhs_evals += o.rhs_evals;
+    jacobian_evals += o.jacobian_evals;
+    root_evals += o.root_evals;
+    events += o.events;
+    wall_time_s += o.wall_time_s;
+    return *this;
+  }
+
+  void check_state(const OdeSystem &system, const double t, const double *y,
+                   const std::string &who, const std::string &remedy)
+  {
+    const auto bounds = system.blow_up_bounds();
+    for (unsigned i = 0; i < system.n_states(); ++i)
+      if (!std::isfinite(y[i]) || std::abs(y[i]) > bounds[i])
+        throw NumericalError(msg(who, (std::isfinite(y[i]) ? " blew up" : " produced a NaN/inf"),
+                                 " at t = ", t, " s: ", system.describe_state(y), ". Remedy: ",
+                                 remedy));
+  }
+
+  namespace
+  {
+    // The paper's classical fourth-order Runge-Kutta with a fixed step. It does not locate
+    // events: a root function that changes sign over a step is reported at the step's end.
+    class RungeKutta4 : public Integrator
+    {
+    public:
+      explicit RungeKutta4(const IntegratorSettings &settings) : settings(settings)
+      {
+        HG_REQUIRE_INPUT(settings.fixed_step > 0.0, "rk4 needs a positive fixed step");
+        statistics.name = "rk4";
+      }
+
+      void integrate(OdeSystem &system, const double t0, std::vector<double> &y,
+                     const double output_interval, const long n_outputs,
+                     const Observer &observer) override
+      {
+        const auto     start = std::chrono::steady_clock::now();
+        const unsigned n     = system.n_states();
+        // Steps per output interval, rounded up so that output times are hit exactly.
+        const long n_sub =
+          std::max(1L, long(std::ceil(output_interval / settings.fixed_step - 1e-9)));
+        const double h = output_interval / n_sub;
+        const std::string remedy =
+          msg("the fixed step h = ", h, " s is too large for this stiff system; use "
+              "Dynamics/integrator = cvode-bdf, or more Dynamics/steps_per_period");
+
+        std::vector<double> k1(n), k2(n), k3(n), k4(n), tmp(n);
+        const unsigned      n_roots = system.n_roots();
+        std::vector<double> g_old(n_roots), g_new(n_roots);
+        std::vector<int>    directions(n_roots);
+        if (n_roots)
+          system.roots(t0, y.data(), g_old.data());
+
+        if (observer)
+          observer(t0, y.data());
+        for (long out = 1; out <= n_outputs; ++out)
+          {
+            for (long s = 0; s < n_sub; ++s)
+              {
+                const double t = t0 + ((out - 1) * n_sub + s) * h;
+                system.rhs(t, y.data(), k1.data());
+                for (unsigned i = 0; i < n; ++i)
+                  tmp[i] = y[i] + 0.5 * h * k1[i];
+                system.rhs(t + 0.5 * h, tmp.data(), k2.data());
+                for (unsigned i = 0; i < n; ++i)
+                  tmp[i] = y[i] + 0.5 * h * k2[i];
+                system.rhs(t + 0.5 * h, tmp.data(), k3.data());
+                for (unsigned i = 0; i < n; ++i)
+                  tmp[i] = y[i] + h * k3[i];
+                system.rhs(t + h, tmp.data(), k4.data());
+                for (unsigned i = 0; i < n; ++i)
+                  y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+                statistics.rhs_evals += 4;
+                ++statistics.steps;
+                check_state(system, t + h, y.data(), "rk4", remedy);
+
+                if (n_roots)
+                  {
+                    system.roots(t + h, y.data(), g_new.data());
+                    ++statistics.root_evals;
+                    bool any = false;
+                    for (unsigned r = 0; r < n_roots; ++r)
+                      {
+                        directions[r] = 0;
+                        if ((g_old[r] < 0.0 && g_new[r] >= 0.0) ||
+                            (g_old[r] > 0.0 && g_new[r] <= 0.0))
+                          {
+                            directions[r] = g_new[r] > g_old[r] ? 1 : -1;
+                            any           = true;
+                          }
+                      }
+                    if (any)
+                      {
+                        ++statistics.events;
+                        if (system.handle_event(t + h, y.data(), directions.data()))
+                          system.roots(t + h, y.data(), g_new.data());
+                      }
+                    g_old = g_new;
+                  }
+              }
+            if (observer)
+              observer(t0 + out * output_interval, y.data());
+          }
+        statistics.wall_time_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      }
+
+    private:
+      IntegratorSettings settings;
+    };
+  } // namespace
+
+  std::unique_ptr<Integrator> make_integrator(const IntegratorSettings &settings)
+  {
+    HG_REQUIRE_INPUT(settings.relative_tolerance > 0.0 && settings.absolute_tolerance > 0.0,
+                     "integrator tolerances must be positive");
+    switch (settings.kind)
+      {
+        case IntegratorKind::rk4:
+          return std::make_unique<RungeKutta4>(settings);
+        case IntegratorKind::arkode_erk:
+          return make_arkode_erk(settings);
+        case IntegratorKind::cvode_bdf:
+          return make_cvode_bdf(settings);
+        case IntegratorKind::arkode_dirk:
+          return make_arkode_dirk(settings);
+        case IntegratorKind::ida:
+          return make_ida(settings);
+      }
+    throw InputError("unknown integrator");
+  }
+} // namespace hertzgear::dynamics

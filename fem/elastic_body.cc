@@ -1,0 +1,392 @@
+#include "fem/elastic_body.h"
+
+#include "common/errors.h"
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/mpi_remote_point_evaluation.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/vector_tools.h>
+#include <deal.II/numerics/vector_tools_evaluate.h>
+
+#include <petscksp.h>
+
+#include <cmath>
+#include <fstream>
+
+namespace hertzgear
+{
+  namespace fem
+  {
+    using namespace dealii;
+
+    namespace
+    {
+      void check_petsc(const PetscErrorCode ierr, const char *what)
+      {
+        HG_REQUIRE_NUMERIC(ierr == 0, "PETSc call ", what, " failed with error code ", ierr);
+      }
+    } // namespace
+
+    template <int dim>
+    void read_gmsh_mesh(const std::string &filename, Triangulation<dim> &triangulation)
+    {
+      std::ifstream in(filename);
+      HG_REQUIRE_INPUT(in.good(), "cannot open the mesh file ", filename);
+      GridIn<dim> grid_in;
+      grid_in.attach_triangulation(triangulation);
+      try
+        {
+          grid_in.read_msh(in);
+        }
+      catch (const std::exception &e)
+        {
+          throw InputError(msg("cannot read the gmsh mesh ", filename, ": ", e.what()));
+        }
+    }
+
+    // One KSP of type PREONLY with an LU preconditioner factorised by MUMPS: KSPSolve after the
+    // first only runs the substitutions.
+    template <int dim>
+    struct ElasticBody<dim>::Factorisation
+    {
+      KSP ksp = nullptr;
+      ~Factorisation()
+      {
+        if (ksp != nullptr)
+          KSPDestroy(&ksp);
+      }
+    };
+
+    template <int dim>
+    ElasticBody<dim>::ElasticBody(const Triangulation<dim> &triangulation,
+                                  const Parameters &        parameters)
+      : triangulation(triangulation)
+      , parameters(parameters)
+      , mpi_communicator(triangulation.get_communicator())
+      , fe(FE_Q<dim>(parameters.fe_degree), dim)
+      , mapping(parameters.mapping_degree)
+      , dof_handler(triangulation)
+    {
+      HG_REQUIRE_INPUT(parameters.youngs_modulus > 0, "Young's modulus must be positive, got ",
+                       parameters.youngs_modulus);
+      HG_REQUIRE_INPUT(parameters.poisson_ratio > -1.0 && parameters.poisson_ratio < 0.5,
+                       "Poisson ratio must lie in (-1, 0.5), got ", parameters.poisson_ratio);
+      HG_REQUIRE_INPUT(parameters.fe_degree >= 1 && parameters.mapping_degree >= 1,
+                       "FE and mapping degrees must be at least 1");
+    }
+
+    template <int dim>
+    ElasticBody<dim>::~ElasticBody() = default;
+
+    template <int dim>
+    void ElasticBody<dim>::run()
+    {
+      setup_system();
+      assemble_system();
+      factorise();
+    }
+
+    template <int dim>
+    void ElasticBody<dim>::set_load_boundary_ids(const std::set<types::boundary_id> &ids)
+    {
+      load_boundary_ids = ids;
+    }
+
+    template <int dim>
+    bool ElasticBody<dim>::is_load_face(const types::boundary_id id) const
+    {
+      if (load_boundary_ids.empty())
+        return id != parameters.clamped_boundary_id;
+      return load_boundary_ids.count(id) > 0;
+    }
+
+    template <int dim>
+    types::global_dof_index ElasticBody<dim>::n_dofs() const
+    {
+      return dof_handler.n_dofs();
+    }
+
+    template <int dim>
+    void ElasticBody<dim>::setup_system()
+    {
+      dof_handler.distribute_dofs(fe);
+      locally_owned_dofs = dof_handler.locally_owned_dofs();
+      DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
+
+      constraints.clear();
+      constraints.reinit(locally_relevant_dofs);
+      DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+      VectorTools::interpolate_boundary_values(mapping, dof_handler,
+                                               parameters.clamped_boundary_id,
+                                               Functions::ZeroFunction<dim>(dim), constraints);
+      constraints.close();
+      // A body that is not clamped anywhere is singular: say so instead of letting MUMPS fail.
+      const unsigned int n_constrained =
+        Utilities::MPI::sum(static_cast<unsigned int>(constraints.n_constraints()), mpi_communicator);
+      HG_REQUIRE_INPUT(n_constrained > 0, "no face carries the clamped boundary id ",
+                       static_cast<unsigned int>(parameters.clamped_boundary_id));
+
+      DynamicSparsityPattern dsp(locally_relevant_dofs);
+      DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
+      SparsityTools::distribute_sparsity_pattern(dsp, locally_owned_dofs, mpi_communicator,
+                                                 locally_relevant_dofs);
+      system_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, mpi_communicator);
+    }
+
+    template <int dim>
+    void ElasticBody<dim>::assemble_system()
+    {
+      const double E      = parameters.youngs_modulus;
+      const double nu     = parameters.poisson_ratio;
+      // In 2D this is plane strain: the 3D Lame constants with eps_zz = 0.
+      const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+      const double mu     = E / (2.0 * (1.0 + nu));
+
+      const QGauss<dim> quadrature(fe.degree + 1);
+      FEValues<dim>     fe_values(mapping, fe, quadrature,
+                              update_gradients | update_JxW_values);
+      const FEValuesExtractors::Vector displacement(0);
+
+      const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
+      FullMatrix<double> cell_matrix(dofs_per_cell, dofs_per_cell);
+      std::vector<types::global_dof_index> local_dof_indices(dofs_per_cell);
+      std::vector<SymmetricTensor<2, dim>> eps(dofs_per_cell);
+      std::vector<double>                  div(dofs_per_cell);
+
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            cell_matrix = 0;
+            fe_values.reinit(cell);
+            for (const unsigned int q : fe_values.quadrature_point_indices())
+              {
+                for (unsigned int k = 0; k < dofs_per_cell; ++k)
+                  {
+                    eps[k] = fe_values[displacement].symmetric_gradient(k, q);
+                    div[k] = trace(eps[k]);
+                  }
+                const double JxW = fe_values.JxW(q);
+                for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                  for (unsigned int j = 0; j <= i; ++j)
+                    cell_matrix(i, j) += (lambda * div[i] * div[j] + 2.0 * mu * (eps[i] * eps[j])) * JxW;
+              }
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
+                cell_matrix(i, j) = cell_matrix(j, i);
+
+            cell->get_dof_indices(local_dof_indices);
+            constraints.distribute_local_to_global(cell_matrix, local_dof_indices, system_matrix);
+          }
+      system_matrix.compress(VectorOperation::add);
+    }
+
+    template <int dim>
+    void ElasticBody<dim>::factorise()
+    {
+      factorisation = std::make_unique<Factorisation>();
+      KSP &ksp      = factorisation->ksp;
+      check_petsc(KSPCreate(mpi_communicator, &ksp), "KSPCreate");
+      const Mat A = system_matrix;
+      check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+      check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+      PC pc;
+      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+      check_petsc(PCSetType(pc, PCLU), "PCSetType");
+      check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+      // KSPSetUp runs the symbolic and numeric factorisation now, once.
+      check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
+    }
+
+    template <int dim>
+    typename ElasticBody<dim>::VectorType ElasticBody<dim>::solve(VectorType &rhs) const
+    {
+      HG_REQUIRE_INPUT(factorisation != nullptr, "ElasticBody::run() must be called before solving");
+      VectorType solution(locally_owned_dofs, mpi_communicator);
+      check_petsc(KSPSolve(factorisation->ksp, rhs, solution), "KSPSolve");
+      KSPConvergedReason reason;
+      check_petsc(KSPGetConvergedReason(factorisation->ksp, &reason), "KSPGetConvergedReason");
+      HG_REQUIRE_NUMERIC(reason >= 0, "the MUMPS substitution failed (KSP reason ",
+                         static_cast<int>(reason), ")");
+      constraints.distribute(solution);
+      // Return a ghosted copy: point evaluation and error integration read neighbour values.
+      VectorType ghosted(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
+      ghosted = solution;
+      return ghosted;
+    }
+
+    template <int dim>
+    typename ElasticBody<dim>::VectorType
+    ElasticBody<dim>::solve_traction(const types::boundary_id boundary_id,
+                                     const TractionFunction & traction) const
+    {
+      VectorType rhs(locally_owned_dofs, mpi_communicator);
+
+      const QGauss<dim - 1> face_quadrature(fe.degree + 1);
+      FEFaceValues<dim>     fe_face_values(mapping, fe, face_quadrature,
+                                       update_values | update_quadrature_points |
+                                         update_normal_vectors | update_JxW_values);
+      const FEValuesExtractors::Vector displacement(0);
+      const unsigned int               dofs_per_cell = fe.n_dofs_per_cell();
+      Vector<double>                   cell_rhs(dofs_per_cell);
+      std::vector<types::global_dof_index> local_dof_indices(dofs_per_cell);
+
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == boundary_id)
+              {
+                fe_face_values.reinit(cell, face);
+                cell_rhs = 0;
+                for (const unsigned int q : fe_face_values.quadrature_point_indices())
+                  {
+                    const Tensor<1, dim> t = traction(fe_face_values.quadrature_point(q),
+                                                      fe_face_values.normal_vector(q));
+                    for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                      cell_rhs(i) += fe_face_values[displacement].value(i, q) * t * fe_face_values.JxW(q);
+                  }
+                cell->get_dof_indices(local_dof_indices);
+                constraints.distribute_local_to_global(cell_rhs, local_dof_indices, rhs);
+              }
+      rhs.compress(VectorOperation::add);
+      return solve(rhs);
+    }
+
+    template <int dim>
+    std::pair<typename ElasticBody<dim>::VectorType, double>
+    ElasticBody<dim>::assemble_patch_rhs(const PatchLoad &load) const
+    {
+      HG_REQUIRE_INPUT(load.radius > 0, "patch radius must be positive, got ", load.radius);
+      VectorType rhs(locally_owned_dofs, mpi_communicator);
+
+      const QGauss<dim - 1> face_quadrature(fe.degree + 2);
+      FEFaceValues<dim>     fe_face_values(mapping, fe, face_quadrature,
+                                       update_values | update_quadrature_points | update_JxW_values);
+      const FEValuesExtractors::Vector displacement(0);
+      const unsigned int               dofs_per_cell = fe.n_dofs_per_cell();
+      Vector<double>                   cell_rhs(dofs_per_cell);
+      std::vector<types::global_dof_index> local_dof_indices(dofs_per_cell);
+
+      double weighted_area = 0;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() && cell->at_boundary())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && is_load_face(face->boundary_id()))
+              {
+                // Cheap rejection on the vertex-based face diameter before any mapping work.
+                if (face->center().distance(load.centre) > load.radius + face->diameter())
+                  continue;
+                fe_face_values.reinit(cell, face);
+                cell_rhs     = 0;
+                bool touched = false;
+                for (const unsigned int q : fe_face_values.quadrature_point_indices())
+                  {
+                    const double s = fe_face_values.quadrature_point(q).distance(load.centre) / load.radius;
+                    if (s >= 1.0)
+                      continue;
+                    touched                = true;
+                    const double w         = (1.0 - s * s) * (1.0 - s * s);
+                    const double w_JxW     = w * fe_face_values.JxW(q);
+                    weighted_area += w_JxW;
+                    for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                      cell_rhs(i) += fe_face_values[displacement].value(i, q) * load.direction * w_JxW;
+                  }
+                if (!touched)
+                  continue;
+                cell->get_dof_indices(local_dof_indices);
+                constraints.distribute_local_to_global(cell_rhs, local_dof_indices, rhs);
+              }
+      rhs.compress(VectorOperation::add);
+      weighted_area = Utilities::MPI::sum(weighted_area, mpi_communicator);
+      HG_REQUIRE_INPUT(weighted_area > 0, "the load patch of radius ", load.radius, " around (",
+                       load.centre, ") touches no quadrature point of a loadable boundary face; "
+                       "the patch is off the surface or smaller than the surface mesh");
+      return {std::move(rhs), weighted_area};
+    }
+
+    template <int dim>
+    typename ElasticBody<dim>::VectorType ElasticBody<dim>::solve_patch_load(const PatchLoad &load) const
+    {
+      auto [rhs, area] = assemble_patch_rhs(load);
+      rhs /= area;
+      return solve(rhs);
+    }
+
+    template <int dim>
+    std::vector<Tensor<1, dim>>
+    ElasticBody<dim>::point_values(const VectorType &solution, const std::vector<Point<dim>> &points) const
+    {
+      Utilities::MPI::RemotePointEvaluation<dim> evaluation;
+      evaluation.reinit(points, triangulation, mapping);
+      HG_REQUIRE_INPUT(evaluation.all_points_found(), "some reading points lie outside the body");
+      return VectorTools::point_values<dim>(evaluation, dof_handler, solution);
+    }
+
+    template <int dim>
+    FullMatrix<double> ElasticBody<dim>::compliance(const std::vector<PatchLoad> &   loads,
+                                                    const std::vector<PointReading> &readings) const
+    {
+      std::vector<Point<dim>> points;
+      points.reserve(readings.size());
+      for (const auto &r : readings)
+        points.push_back(r.point);
+      // One point search for all load cases.
+      Utilities::MPI::RemotePointEvaluation<dim> evaluation;
+      evaluation.reinit(points, triangulation, mapping);
+      HG_REQUIRE_INPUT(evaluation.all_points_found(), "some reading points lie outside the body");
+
+      FullMatrix<double> C(readings.size(), loads.size());
+      for (unsigned int l = 0; l < loads.size(); ++l)
+        {
+          const VectorType u      = solve_patch_load(loads[l]);
+          const auto       values = VectorTools::point_values<dim>(evaluation, dof_handler, u);
+          for (unsigned int r = 0; r < readings.size(); ++r)
+            C(r, l) = values[r] * readings[r].direction;
+        }
+      return C;
+    }
+
+    template <int dim>
+    FullMatrix<double> ElasticBody<dim>::patch_compliance(const std::vector<PatchLoad> &loads) const
+    {
+      const unsigned int  n_loads = loads.size();
+      std::vector<VectorType> rhs(n_loads);
+      for (unsigned int l = 0; l < n_loads; ++l)
+        {
+          auto [f, area] = assemble_patch_rhs(loads[l]);
+          f /= area;
+          rhs[l] = std::move(f);
+        }
+      FullMatrix<double> C(n_loads, n_loads);
+      for (unsigned int j = 0; j < n_loads; ++j)
+        {
+          VectorType f = rhs[j];
+          const VectorType u_ghosted = solve(f);
+          VectorType       u(locally_owned_dofs, mpi_communicator);
+          u = u_ghosted;
+          for (unsigned int i = 0; i < n_loads; ++i)
+            C(i, j) = rhs[i] * u; // collective dot product
+        }
+      return C;
+    }
+
+    template <int dim>
+    double ElasticBody<dim>::l2_error(const VectorType &solution, const Function<dim> &exact) const
+    {
+      Vector<float> cellwise(triangulation.n_active_cells());
+      VectorTools::integrate_difference(mapping, dof_handler, solution, exact, cellwise,
+                                        QGauss<dim>(fe.degree + 2), VectorTools::L2_norm);
+      return VectorTools::compute_global_error(triangulation, cellwise, VectorTools::L2_norm);
+    }
+
+    template class ElasticBody<2>;
+    template class ElasticBody<3>;
+    template void read_gmsh_mesh<2>(const std::string &, Triangulation<2> &);
+    template void read_gmsh_mesh<3>(const std::string &, Triangulation<3> &);
+  } // namespace fem
+} // namespace hertzgear

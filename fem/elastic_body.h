@@ -1,0 +1,151 @@
+#pragma once
+// Linear elastic body (deal.II, PETSc, MPI): the global part of the gear compliance.
+//
+// The body is assembled once and factorised once (MUMPS LU through PETSc); every further load case
+// is one forward/backward substitution. That reuse is what makes the hybrid contact method
+// affordable: the TCA needs the displacement field of a unit load at every contact-grid point.
+//
+//   ElasticBody<2> body(triangulation, parameters);   // plane strain in 2D
+//   body.run();                                       // setup_system, assemble_system, factorise
+//   const auto C = body.compliance(loads, readings);  // C(r, l) = u_l(point_r) . direction_r
+//
+// Inputs before outputs, SI or any consistent unit system (the class never converts units).
+#include <deal.II/base/function.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hertzgear
+{
+  namespace fem
+  {
+    // Read a gmsh .msh file (physical groups of faces become boundary ids, of cells material ids)
+    // into an empty triangulation, serial or parallel::distributed (each rank reads the coarse
+    // mesh). Throws InputError if the file cannot be read.
+    template <int dim>
+    void read_gmsh_mesh(const std::string &filename, dealii::Triangulation<dim> &triangulation);
+
+    template <int dim>
+    class ElasticBody
+    {
+    public:
+      using VectorType = dealii::PETScWrappers::MPI::Vector;
+      using MatrixType = dealii::PETScWrappers::MPI::SparseMatrix;
+
+      struct Parameters
+      {
+        double                      youngs_modulus = 206.0e9; // Pa (or MPa with mm)
+        double                      poisson_ratio  = 0.3;
+        unsigned int                fe_degree      = 2;       // FE_Q degree of each component
+        unsigned int                mapping_degree = 2;       // MappingQ degree (curved boundaries)
+        dealii::types::boundary_id  clamped_boundary_id = 0;  // the bore
+      };
+
+      // A unit force along `direction` spread over the boundary within `radius` of `centre`
+      // with the smooth weight (1 - (r/radius)^2)^2, so that the load is a traction whose
+      // resultant is exactly `direction` (|direction| = 1 for a unit load).
+      struct PatchLoad
+      {
+        dealii::Point<dim>     centre;
+        dealii::Tensor<1, dim> direction;
+        double                 radius = 0.0;
+      };
+
+      // Displacement component along `direction` at `point` (anywhere in the body).
+      struct PointReading
+      {
+        dealii::Point<dim>     point;
+        dealii::Tensor<1, dim> direction;
+      };
+
+      // Traction t(x, n) on a boundary part, n the outward unit normal.
+      using TractionFunction = std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &,
+                                                                    const dealii::Tensor<1, dim> &)>;
+
+      // The triangulation (serial, parallel::distributed or fullydistributed) must outlive the
+      // body; its communicator is the body's communicator. Manifolds must be attached to it.
+      ElasticBody(const dealii::Triangulation<dim> &triangulation, const Parameters &parameters);
+      ~ElasticBody();
+      ElasticBody(const ElasticBody &) = delete;
+      ElasticBody &operator=(const ElasticBody &) = delete;
+
+      // setup_system, assemble_system, factorise: afterwards any number of load cases.
+      void run();
+
+      // Patch loads may be restricted to boundary faces with these ids (empty: any boundary face
+      // except the clamped one), e.g. the flank of one tooth.
+      void set_load_boundary_ids(const std::set<dealii::types::boundary_id> &ids);
+
+      // Displacement field of a traction on boundary part `boundary_id`.
+      VectorType solve_traction(const dealii::types::boundary_id boundary_id,
+                                const TractionFunction &         traction) const;
+      // Displacement field of one patch load.
+      VectorType solve_patch_load(const PatchLoad &load) const;
+
+      // Displacements (vectors) at points anywhere in the body; collective, every rank gets all.
+      std::vector<dealii::Tensor<1, dim>> point_values(const VectorType &                     solution,
+                                                       const std::vector<dealii::Point<dim>> &points) const;
+
+      // C(r, l) = displacement of load case l read at reading r: n_readings x n_loads, replicated
+      // on every rank. One substitution per load, one point search for all readings.
+      dealii::FullMatrix<double> compliance(const std::vector<PatchLoad> &   loads,
+                                            const std::vector<PointReading> &readings) const;
+
+      // C(i, j) = work of patch traction i on the displacement of patch load j: symmetric by
+      // Maxwell-Betti up to the solver's round-off (the discrete K^-1 is symmetric).
+      dealii::FullMatrix<double> patch_compliance(const std::vector<PatchLoad> &loads) const;
+
+      // ||u_h - u||_L2 over the body (collective).
+      double l2_error(const VectorType &solution, const dealii::Function<dim> &exact) const;
+
+      dealii::types::global_dof_index n_dofs() const;
+      const dealii::DoFHandler<dim> & get_dof_handler() const { return dof_handler; }
+      const dealii::Mapping<dim> &    get_mapping() const { return mapping; }
+      MPI_Comm                        get_communicator() const { return mpi_communicator; }
+
+    private:
+      void setup_system();
+      void assemble_system();
+      void factorise();
+
+      VectorType solve(VectorType &rhs) const;
+      // Load vector of a patch (not yet divided by the patch area) and the weighted patch area.
+      std::pair<VectorType, double> assemble_patch_rhs(const PatchLoad &load) const;
+      bool                          is_load_face(const dealii::types::boundary_id id) const;
+
+      const dealii::Triangulation<dim> &triangulation;
+      const Parameters                  parameters;
+      MPI_Comm                          mpi_communicator;
+
+      const dealii::FESystem<dim> fe;
+      const dealii::MappingQ<dim> mapping;
+      dealii::DoFHandler<dim>     dof_handler;
+
+      dealii::IndexSet                  locally_owned_dofs;
+      dealii::IndexSet                  locally_relevant_dofs;
+      dealii::AffineConstraints<double> constraints;
+      MatrixType                        system_matrix;
+
+      std::set<dealii::types::boundary_id> load_boundary_ids;
+
+      // The PETSc KSP that holds the MUMPS factors (opaque here to keep petsc headers out).
+      struct Factorisation;
+      std::unique_ptr<Factorisation> factorisation;
+    };
+  } // namespace fem
+} // namespace hertzgear

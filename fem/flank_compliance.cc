@@ -1,0 +1,157 @@
+#include "fem/flank_compliance.h"
+
+#include "common/errors.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hertzgear::fem
+{
+  template <int dim>
+  unsigned int TabulatedFlankCompliance<dim>::node(const unsigned int tooth_index,
+                                                   const unsigned int i_roll,
+                                                   const unsigned int i_face) const
+  {
+    return (tooth_index * roll_nodes.size() + i_roll) * face_nodes.size() + i_face;
+  }
+
+  template <int dim>
+  TabulatedFlankCompliance<dim>::TabulatedFlankCompliance(const ElasticBody<dim>      &body,
+                                                          const meshing::GearGeometry &gear,
+                                                          const int                  central_tooth,
+                                                          const FlankTableSettings  &settings)
+    : settings(settings)
+  {
+    HG_REQUIRE_INPUT(settings.n_roll >= 2, "flank table: at least 2 roll nodes");
+    HG_REQUIRE_INPUT(settings.roll_max_mm > settings.roll_min_mm,
+                     "flank table: empty active profile (roll ", settings.roll_min_mm, " to ",
+                     settings.roll_max_mm, " mm)");
+    HG_REQUIRE_INPUT(settings.reference_depth_mm > settings.patch_radius_mm,
+                     "flank table: the reference depth (", settings.reference_depth_mm,
+                     " mm) must exceed the load patch radius (", settings.patch_radius_mm, " mm)");
+    for (unsigned int i = 0; i < settings.n_roll; ++i)
+      roll_nodes.push_back(settings.roll_min_mm + (settings.roll_max_mm - settings.roll_min_mm) *
+                                                    i / (settings.n_roll - 1.0));
+    const double b = gear.face_width_mm();
+    if (dim == 2)
+      {
+        face_nodes = {0.0};
+        scale      = 1.0 / b;
+      }
+    else
+      {
+        HG_REQUIRE_INPUT(settings.n_face >= 2, "flank table: at least 2 face nodes in 3D");
+        // Nodes inset by the patch radius so that each patch lies on the flank.
+        const double z0 = -0.5 * b + settings.patch_radius_mm;
+        for (unsigned int i = 0; i < settings.n_face; ++i)
+          face_nodes.push_back(z0 + (b - 2 * settings.patch_radius_mm) * i / (settings.n_face - 1.0));
+      }
+
+    using Load    = typename ElasticBody<dim>::PatchLoad;
+    using Reading = typename ElasticBody<dim>::PointReading;
+    std::vector<Load>    loads;
+    std::vector<Reading> readings;
+    const double         r_b   = gear.base_radius_mm();
+    const double         pitch = 2.0 * M_PI / gear.n_teeth();
+    for (const int t : settings.teeth)
+      for (const double roll : roll_nodes)
+        for (const double z : face_nodes)
+          {
+            const double    u      = roll / r_b;
+            const double    angle  = t * pitch;
+            Eigen::Vector2d p      = gear.involute_point(u);
+            Eigen::Vector2d n      = gear.involute_normal(u);
+            // The modified flank (crowning, tip relief) lies Delta inside the nominal one.
+            p -= (dim == 3 ? gear.modification_mm(roll, z) : gear.tip_relief_mm(roll)) * n;
+            const Eigen::Vector2d pr = meshing::GearGeometry::rotate(p, angle);
+            const Eigen::Vector2d nr = meshing::GearGeometry::rotate(n, angle);
+            Load                  load;
+            Reading               reading;
+            for (unsigned int c = 0; c < 2; ++c)
+              {
+                load.centre[c]     = pr[c];
+                load.direction[c]  = -nr[c];
+                reading.point[c]   = pr[c] - settings.reference_depth_mm * nr[c];
+                reading.direction[c] = -nr[c];
+              }
+            if constexpr (dim == 3)
+              {
+                load.centre[2]    = z;
+                reading.point[2]  = z;
+              }
+            load.radius = settings.patch_radius_mm;
+            loads.push_back(load);
+            readings.push_back(reading);
+          }
+    (void)central_tooth; // the body frame already centres the central tooth on +x
+    const dealii::FullMatrix<double> c = body.compliance(loads, readings);
+    table.resize(c.m(), c.n());
+    for (unsigned int i = 0; i < c.m(); ++i)
+      for (unsigned int j = 0; j < c.n(); ++j)
+        table(i, j) = c(i, j) * scale;
+  }
+
+  template <int dim>
+  bool TabulatedFlankCompliance<dim>::covers_tooth(const int tooth) const
+  {
+    return std::find(settings.teeth.begin(), settings.teeth.end(), tooth) != settings.teeth.end();
+  }
+
+  template <int dim>
+  bool TabulatedFlankCompliance<dim>::weights(const FlankPoint &p, unsigned int nodes[4],
+                                              double w[4]) const
+  {
+    const auto it = std::find(settings.teeth.begin(), settings.teeth.end(), p.tooth);
+    if (it == settings.teeth.end())
+      return false;
+    const unsigned int t = static_cast<unsigned int>(it - settings.teeth.begin());
+    // Linear in roll (clamped to the active profile), linear in z (3D).
+    const auto bracket = [](const std::vector<double> &x, const double v, unsigned int &i0,
+                            double &f) {
+      if (x.size() == 1)
+        {
+          i0 = 0;
+          f  = 0;
+          return;
+        }
+      const double c = std::clamp(v, x.front(), x.back());
+      i0 = static_cast<unsigned int>(
+        std::min<std::size_t>(std::upper_bound(x.begin(), x.end(), c) - x.begin(), x.size() - 1) - 1);
+      f = (c - x[i0]) / (x[i0 + 1] - x[i0]);
+    };
+    unsigned int ir, iz;
+    double       fr, fz;
+    bracket(roll_nodes, p.roll_mm, ir, fr);
+    bracket(face_nodes, p.z_mm, iz, fz);
+    const unsigned int ir1 = std::min<unsigned int>(ir + 1, roll_nodes.size() - 1);
+    const unsigned int iz1 = std::min<unsigned int>(iz + 1, face_nodes.size() - 1);
+    nodes[0] = node(t, ir, iz);
+    nodes[1] = node(t, ir1, iz);
+    nodes[2] = node(t, ir, iz1);
+    nodes[3] = node(t, ir1, iz1);
+    w[0]     = (1 - fr) * (1 - fz);
+    w[1]     = fr * (1 - fz);
+    w[2]     = (1 - fr) * fz;
+    w[3]     = fr * fz;
+    return true;
+  }
+
+  template <int dim>
+  double TabulatedFlankCompliance<dim>::compliance_mm_per_N(const FlankPoint &reading,
+                                                            const FlankPoint &load) const
+  {
+    unsigned int ni[4], nj[4];
+    double       wi[4], wj[4];
+    // A tooth outside the table is far from the loaded teeth: its coupling is neglected.
+    if (!weights(reading, ni, wi) || !weights(load, nj, wj))
+      return 0.0;
+    double c = 0;
+    for (unsigned int a = 0; a < 4; ++a)
+      for (unsigned int b = 0; b < 4; ++b)
+        c += wi[a] * wj[b] * table(ni[a], nj[b]);
+    return c;
+  }
+
+  template class TabulatedFlankCompliance<2>;
+  template class TabulatedFlankCompliance<3>;
+} // namespace hertzgear::fem

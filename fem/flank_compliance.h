@@ -1,0 +1,61 @@
+#pragma once
+// Structural compliance of a gear body between points of its drive flanks, tabulated once from
+// the FE model (ElasticBody) and interpolated for any mesh position.
+//
+// Nodes: for each tooth of the table, a grid of roll distances (active profile) times face
+// positions (3D). Load case j: a unit normal force on a small patch of the flank at node j,
+// pressing into the body. Reading i: the displacement along the inward flank normal of node i,
+// at the reference depth d below the surface (where the FE solution has converged; the local part
+// above it comes from the half-space, see MeshCycle). One factorisation, one substitution per
+// load case. In 2D (plane strain) the body has unit thickness and the force is spread over the
+// face width b, so the compliance is divided by b.
+#include "fem/elastic_body.h"
+#include "fem/mesh_cycle.h"
+#include "meshing/gear_geometry.h"
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace hertzgear::fem
+{
+  struct FlankTableSettings
+  {
+    std::vector<int> teeth{-1, 0, 1}; // relative to the body mesh's central tooth
+    unsigned int     n_roll = 16;     // nodes across the active profile
+    unsigned int     n_face = 5;      // nodes along the face width (3D)
+    double           roll_min_mm = 0; // active profile as roll distances (r_b u)
+    double           roll_max_mm = 0;
+    double           reference_depth_mm = 0.5;
+    double           patch_radius_mm    = 0.3;
+  };
+
+  template <int dim>
+  class TabulatedFlankCompliance : public FlankCompliance
+  {
+  public:
+    // Computes the table (collective over the body's MPI communicator).
+    TabulatedFlankCompliance(const ElasticBody<dim> &body, const meshing::GearGeometry &gear,
+                             int central_tooth, const FlankTableSettings &settings);
+
+    double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const override;
+    double reference_depth_mm() const override { return settings.reference_depth_mm; }
+    bool   covers_tooth(int tooth) const override;
+
+    unsigned int n_load_cases() const { return static_cast<unsigned int>(table.cols()); }
+    // The raw table (reading x load), for tests (Maxwell-Betti reciprocity, convergence).
+    const Eigen::MatrixXd &matrix() const { return table; }
+    // Node index of (tooth, roll node, face node).
+    unsigned int node(unsigned int tooth_index, unsigned int i_roll, unsigned int i_face) const;
+
+  private:
+    FlankTableSettings  settings;
+    std::vector<double> roll_nodes, face_nodes;
+    double              scale = 1; // 1/b in 2D
+    Eigen::MatrixXd     table;
+
+    // Interpolation weights of a flank point: up to 4 (node, weight) pairs; false if the tooth
+    // is not in the table.
+    bool weights(const FlankPoint &p, unsigned int nodes[4], double w[4]) const;
+  };
+} // namespace hertzgear::fem

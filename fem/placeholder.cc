@@ -1,2 +1,0 @@
-// Replaced by the FE sources.
-namespace hertzgear { int fem_placeholder = 0; }

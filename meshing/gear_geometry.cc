@@ -1,0 +1,234 @@
+#include "meshing/gear_geometry.h"
+
+#include "common/errors.h"
+#include "meshing/involute.h"
+
+#include <cmath>
+#include <limits>
+
+namespace hertzgear::meshing
+{
+  namespace
+  {
+    constexpr double pi = 3.14159265358979323846;
+  }
+
+  Eigen::Vector2d GearGeometry::rotate(const Eigen::Vector2d &p, const double angle)
+  {
+    const double c = std::cos(angle), s = std::sin(angle);
+    return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
+  }
+
+  GearGeometry::GearGeometry(const GearParameters &parameters) : params(parameters)
+  {
+    const auto  &p    = params;
+    const auto   name = p.name;
+    HG_REQUIRE_INPUT(p.teeth >= 6, name, ": ", p.teeth, " teeth is too few for a spur gear (>= 6)");
+    HG_REQUIRE_INPUT(p.module_mm > 0 && std::isfinite(p.module_mm), name, ": module ",
+                     p.module_mm, " mm must be positive");
+    HG_REQUIRE_INPUT(p.face_width_mm > 0, name, ": face width ", p.face_width_mm,
+                     " mm must be positive");
+    HG_REQUIRE_INPUT(p.pressure_angle_rad > 0 && p.pressure_angle_rad < pi / 4, name,
+                     ": pressure angle ", p.pressure_angle_rad * 180 / pi,
+                     " deg is outside (0, 45) deg");
+    // A spur tooth narrower than half a module or wider than 50 modules is a plate or a
+    // strip, not a gear tooth: the beam/plate assumptions behind every stiffness model fail.
+    HG_REQUIRE_INPUT(p.face_width_mm >= 0.5 * p.module_mm && p.face_width_mm <= 50 * p.module_mm,
+                     name, ": absurd dimensions: face width ", p.face_width_mm, " mm with module ",
+                     p.module_mm, " mm (b/m = ", p.face_width_mm / p.module_mm,
+                     "; a spur gear needs 0.5 <= b/m <= 50)");
+    HG_REQUIRE_INPUT(p.cutter_tip_radius_coefficient >= 0, name,
+                     ": cutter tip radius coefficient must be >= 0");
+
+    const double m = p.module_mm, alpha = p.pressure_angle_rad, x = p.profile_shift_coefficient;
+    r     = 0.5 * m * p.teeth;
+    r_b   = r * std::cos(alpha);
+    s_ref = m * (0.5 * pi + 2 * x * std::tan(alpha)) - p.thickness_reduction_mm;
+    psi_b = s_ref / (2 * r) + involute(alpha);
+    r_a   = p.tip_radius_mm > 0 ? p.tip_radius_mm : r + m * (p.addendum_coefficient + x);
+    r_f   = r + x * m - p.dedendum_coefficient * m;
+    HG_REQUIRE_INPUT(r_f > 0, name, ": absurd dimensions: root radius ", r_f,
+                     " mm is not positive (teeth ", p.teeth, ", dedendum ",
+                     p.dedendum_coefficient, " m, profile shift ", x, ")");
+
+    // Generating rack, in the generation frame: gear centre at the origin, the rack's rolling
+    // line tangent to the reference circle at y = r, the cutter tooth centred on x = 0 filling
+    // the tooth space. Its right flank x = e/2 + (y - r) tan(alpha) generates the +theta flank
+    // of the tooth to the right of the space. e = pi m - s is the space width on the reference
+    // circle, i.e. the cutter tooth thickness on its rolling line (thinning widens it).
+    rho            = p.cutter_tip_radius_coefficient * m;
+    const double e = pi * m - s_ref;
+    y_c            = r + x * m - p.dedendum_coefficient * m + rho;
+    x_c            = 0.5 * e + (y_c - r) * std::tan(alpha) - rho / std::cos(alpha);
+    HG_REQUIRE_INPUT(x_c >= 0, name, ": cutter tip radius rho_fP = ",
+                     p.cutter_tip_radius_coefficient, " m is too large for the rack's tip (the "
+                     "rounds of both cutter flanks overlap)");
+    HG_REQUIRE_INPUT(r - y_c > 0, name, ": profile shift x = ", x,
+                     " puts the centre of the cutter's tip round outside the reference circle "
+                     "(x must be below (h_fP - rho_fP)/m = ",
+                     p.dedendum_coefficient - p.cutter_tip_radius_coefficient, ")");
+    // The round touches the straight cutter flank at T; the involute starts where T is
+    // generated, i.e. when T lies on the rack's line of action through the pitch point I.
+    const double y_T           = y_c - rho * std::sin(alpha);
+    const double roll_length_F = r * std::sin(alpha) - (r - y_T) / std::sin(alpha);
+    // Undercut: the generating flank reaches below the interference point (the base tangent
+    // point of the line of action), i.e. the involute would have to start inside the base
+    // circle (ISO 21771:2007, 5.2; z_min = 2 (h_fP/m - rho (1 - sin a) / m - x) / sin^2 a).
+    const double x_min =
+      (p.dedendum_coefficient - p.cutter_tip_radius_coefficient * (1 - std::sin(alpha))) -
+      0.5 * p.teeth * std::sin(alpha) * std::sin(alpha);
+    HG_REQUIRE_INPUT(roll_length_F >= -1e-12 * m, name, ": undercut: ", p.teeth,
+                     " teeth with profile shift x = ", x,
+                     " are undercut by the cutter (the involute would start below the base "
+                     "circle); use a profile shift x >= ",
+                     x_min, " or more teeth");
+    u_F = std::max(0.0, roll_length_F) / r_b;
+    r_F = r_b * std::sqrt(1 + u_F * u_F);
+    phi_form = (x_c - (r - y_c) / std::tan(alpha)) / r;
+    phi_root = x_c / r;
+
+    HG_REQUIRE_INPUT(r_a > r_F, name, ": tip radius ", r_a,
+                     " mm is not above the form radius ", r_F,
+                     " mm where the involute starts: the tooth has no involute flank");
+    u_a = roll_angle_at_radius(r_a);
+    check();
+  }
+
+  void GearGeometry::check() const
+  {
+    const auto  &p    = params;
+    const double m    = p.module_mm;
+    const double s_a  = tooth_thickness_mm(r_a);
+    const double limit = p.minimum_top_land_coefficient * m;
+    HG_REQUIRE_INPUT(s_a >= limit, p.name, ": pointed tip: the top land is ", s_a,
+                     " mm at the tip radius ", r_a, " mm, below the limit ",
+                     p.minimum_top_land_coefficient, " m = ", limit,
+                     " mm; reduce the tip radius or the profile shift");
+    // Crowning and tip relief remove material normal to the flank; at the tip this thins the
+    // tooth by 2 Delta / cos(alpha_a) (an involute moved by Delta normal is the same involute
+    // turned by Delta / r_b). The corners at the face ends must keep the minimum top land.
+    const double alpha_a = std::acos(r_b / r_a);
+    const double removal = p.crowning_mm + p.tip_relief_mm;
+    const double s_a_mod = s_a - 2 * removal / std::cos(alpha_a);
+    HG_REQUIRE_INPUT(s_a_mod >= limit, p.name, ": crowning ", p.crowning_mm * 1e3,
+                     " um and tip relief ", p.tip_relief_mm * 1e3,
+                     " um are larger than the geometry allows: they leave a top land of ", s_a_mod,
+                     " mm at the face ends, below the limit ", limit, " mm");
+    HG_REQUIRE_INPUT(p.tip_relief_mm >= 0 && p.tip_relief_length_mm >= 0 && p.crowning_mm >= 0,
+                     p.name, ": crowning and tip relief must be >= 0");
+    const double usable_mm = r_b * (u_a - u_F);
+    HG_REQUIRE_INPUT(p.tip_relief_length_mm <= usable_mm, p.name, ": tip relief length ",
+                     p.tip_relief_length_mm, " mm is larger than the geometry allows: the involute "
+                     "flank is only ", usable_mm, " mm long along the line of action");
+  }
+
+  double GearGeometry::angular_pitch_rad() const
+  {
+    return 2 * pi / params.teeth;
+  }
+
+  double GearGeometry::base_pitch_mm() const
+  {
+    return pi * params.module_mm * std::cos(params.pressure_angle_rad);
+  }
+
+  double GearGeometry::roll_angle_at_radius(const double radius) const
+  {
+    return std::sqrt(std::max(0.0, radius * radius / (r_b * r_b) - 1));
+  }
+
+  double GearGeometry::flank_polar_angle_rad(const double radius) const
+  {
+    const double u = roll_angle_at_radius(radius);
+    return psi_b - (u - std::atan(u));
+  }
+
+  double GearGeometry::tooth_thickness_mm(const double radius) const
+  {
+    return 2 * radius * flank_polar_angle_rad(radius);
+  }
+
+  Eigen::Vector2d GearGeometry::involute_point(const double u) const
+  {
+    // Tangent point at polar angle psi_b - u, string of length r_b u wound off counter-clockwise.
+    const double t = psi_b - u;
+    return {r_b * (std::cos(t) - u * std::sin(t)), r_b * (std::sin(t) + u * std::cos(t))};
+  }
+
+  Eigen::Vector2d GearGeometry::involute_normal(const double u) const
+  {
+    // The normal of an involute is its generating string, tangent to the base circle at the
+    // tangent point (polar angle t); on the +theta flank the string runs counter-clockwise,
+    // away from the tooth's centre line, so its direction is the outward normal.
+    const double t = psi_b - u;
+    return {-std::sin(t), std::cos(t)};
+  }
+
+  Eigen::Vector2d GearGeometry::fillet_point_generation_frame(const double phi) const
+  {
+    // Rack shifted by -r phi while the gear turns by phi: the round's centre in the fixed
+    // frame; the envelope point lies on the line from the pitch point I = (0, r) through the
+    // centre (the contact normal passes through the instantaneous centre), on the far side.
+    const Eigen::Vector2d centre(x_c - r * phi, y_c);
+    const Eigen::Vector2d I(0, r);
+    const Eigen::Vector2d dir  = (centre - I).normalized();
+    const Eigen::Vector2d pnt  = centre + rho * dir;
+    return rotate(pnt, -phi);
+  }
+
+  Eigen::Vector2d GearGeometry::fillet_point(const double t) const
+  {
+    const double phi = phi_root + t * (phi_form - phi_root);
+    // Generation frame -> tooth frame: the tooth right of the space (centred at pi/2 - pi/z)
+    // is turned onto the +x axis.
+    return rotate(fillet_point_generation_frame(phi), -(0.5 * pi - pi / params.teeth));
+  }
+
+  double GearGeometry::root_fillet_angle_rad() const
+  {
+    return pi / params.teeth - phi_root;
+  }
+
+  double GearGeometry::crowning_mm(const double z_mm) const
+  {
+    const double q = 2 * z_mm / params.face_width_mm;
+    return params.crowning_mm * q * q;
+  }
+
+  double GearGeometry::tip_relief_mm(const double roll_length_mm) const
+  {
+    if (params.tip_relief_mm <= 0 || params.tip_relief_length_mm <= 0)
+      return 0;
+    const double start = r_b * u_a - params.tip_relief_length_mm;
+    if (roll_length_mm <= start)
+      return 0;
+    const double q = (roll_length_mm - start) / params.tip_relief_length_mm;
+    return params.tip_relief_mm * (params.tip_relief_shape == TipReliefShape::linear ? q : q * q);
+  }
+
+  double GearGeometry::crowning_radius_mm() const
+  {
+    if (params.crowning_mm <= 0)
+      return std::numeric_limits<double>::infinity();
+    return params.face_width_mm * params.face_width_mm / (8 * params.crowning_mm);
+  }
+
+  GearGeometry::HalfProfile GearGeometry::half_profile(const unsigned int n_root,
+                                                       const unsigned int n_fillet,
+                                                       const unsigned int n_flank) const
+  {
+    HalfProfile hp;
+    const double a0 = pi / params.teeth, a1 = root_fillet_angle_rad();
+    for (unsigned int i = 0; i <= n_root; ++i)
+      {
+        const double a = a0 + (a1 - a0) * i / n_root;
+        hp.root_arc.emplace_back(r_f * std::cos(a), r_f * std::sin(a));
+      }
+    for (unsigned int i = 0; i <= n_fillet; ++i)
+      hp.fillet.push_back(fillet_point(double(i) / n_fillet));
+    // Equal steps in roll length cluster points where the curvature is high (near the base).
+    for (unsigned int i = 0; i <= n_flank; ++i)
+      hp.flank.push_back(involute_point(u_F + (u_a - u_F) * i / n_flank));
+    return hp;
+  }
+} // namespace hertzgear::meshing

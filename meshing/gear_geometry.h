@@ -1,0 +1,109 @@
+#pragma once
+// Exact geometry of one spur gear cut by an ISO 53 basic rack (docs/geometry.md):
+//   - the involute flank,   theta(r) = psi_b - inv(alpha_r),  cos(alpha_r) = r_b / r,
+//   - the trochoidal fillet, the envelope of the round (radius rho_fP) of the cutting rack's tip
+//     rolling on the reference circle (an equidistant of the trochoid of the round's centre),
+//   - the root circle cut by the flat tip of the rack,
+//   - lead crowning Delta(z) = beta (2z/b)^2 and linear/parabolic tip relief, both as material
+//     removal normal to the flank.
+// Points come from the analytic curves. The local frame of a tooth: gear centre at the origin,
+// the tooth's centre line on the +x axis, the +theta (counter-clockwise) flank is the loaded one
+// ("drive" flank in PairKinematics' convention), the -theta flank its mirror image.
+#include "meshing/gear_parameters.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace hertzgear::meshing
+{
+  class GearGeometry
+  {
+  public:
+    // Builds the geometry and runs the single-gear checks; throws InputError for undercut, a
+    // pointed tip, absurd dimensions, too large crowning or tip relief.
+    explicit GearGeometry(const GearParameters &parameters);
+
+    const GearParameters &parameters() const { return params; }
+    int    n_teeth() const { return params.teeth; }
+    double module_mm() const { return params.module_mm; }
+    double pressure_angle_rad() const { return params.pressure_angle_rad; }
+    double face_width_mm() const { return params.face_width_mm; }
+
+    double reference_radius_mm() const { return r; }  // r = m z / 2
+    double base_radius_mm() const { return r_b; }     // r_b = r cos(alpha)
+    double tip_radius_mm() const { return r_a; }
+    double root_radius_mm() const { return r_f; }     // r + x m - h_fP
+    double form_radius_mm() const { return r_F; }     // where the fillet meets the involute
+    double bore_radius_mm() const { return params.bore_radius_mm; }
+    double angular_pitch_rad() const;                 // 2 pi / z
+    double base_pitch_mm() const;                     // p_b = pi m cos(alpha)
+
+    // Half the angular tooth thickness on the base circle, psi_b = s/(2r) + inv(alpha), with s
+    // the (thinned) circular tooth thickness on the reference circle.
+    double half_base_thickness_angle_rad() const { return psi_b; }
+    double reference_tooth_thickness_mm() const { return s_ref; }
+    // Circular tooth thickness on the involute at radius (r_b <= radius <= r_a).
+    double tooth_thickness_mm(double radius) const;
+    double top_land_mm() const { return tooth_thickness_mm(r_a); }
+
+    // Roll angle u = tan(alpha_r) of the involute point at radius (>= r_b); the roll length
+    // (distance to the base tangent point, = radius of curvature) is r_b u.
+    double roll_angle_at_radius(double radius) const;
+    double form_roll_angle() const { return u_F; }
+    double tip_roll_angle() const { return u_a; }
+
+    // Polar angle of the +theta flank at radius (involute part, r >= r_b).
+    double flank_polar_angle_rad(double radius) const;
+    // +theta flank point and unit outward normal (pointing out of the tooth) at roll angle u.
+    Eigen::Vector2d involute_point(double roll_angle) const;
+    Eigen::Vector2d involute_normal(double roll_angle) const;
+
+    // +theta fillet point for t in [0, 1]: t = 0 on the root circle (bottom of the round),
+    // t = 1 at the form point where the involute starts. Exact envelope of the rack tip round.
+    Eigen::Vector2d fillet_point(double t) const;
+    // Polar angle of the bottom of the fillet (start of the root arc of the +theta side).
+    double root_fillet_angle_rad() const;
+
+    // Material removed normal to the flank [mm] at face position z (0 = mid-face) and roll
+    // length xi = r_b u (distance from the base tangent point): crowning + tip relief.
+    double crowning_mm(double z_mm) const;
+    double tip_relief_mm(double roll_length_mm) const;
+    double modification_mm(double roll_length_mm, double z_mm) const
+    {
+      return crowning_mm(z_mm) + tip_relief_mm(roll_length_mm);
+    }
+    // Radius of the crowning parabola, R = b^2 / (8 beta); infinity when uncrowned.
+    double crowning_radius_mm() const;
+
+    // The whole +theta half-profile of the tooth centred on the x axis, from the space centre
+    // on the root circle to the tip corner, sampled from the analytic curves.
+    struct HalfProfile
+    {
+      std::vector<Eigen::Vector2d> root_arc; // space centre -> bottom of the fillet
+      std::vector<Eigen::Vector2d> fillet;   // bottom of the fillet -> form point
+      std::vector<Eigen::Vector2d> flank;    // form point -> tip corner
+    };
+    HalfProfile half_profile(unsigned int n_root, unsigned int n_fillet, unsigned int n_flank) const;
+
+    // Rotation that takes the generation frame (tooth space on +y) to the tooth frame.
+    static Eigen::Vector2d rotate(const Eigen::Vector2d &p, double angle);
+
+  private:
+    GearParameters params;
+    double r = 0, r_b = 0, r_a = 0, r_f = 0, r_F = 0;
+    double s_ref = 0, psi_b = 0, u_F = 0, u_a = 0;
+    // Generating rack: centre of its tip round (x_c, y_c) in the generation frame, rolling
+    // parameters of the fillet's ends.
+    double x_c = 0, y_c = 0, rho = 0, phi_root = 0, phi_form = 0;
+
+    Eigen::Vector2d fillet_point_generation_frame(double phi) const;
+    void            check() const;
+  };
+
+  // Radius of curvature of an involute at roll length xi is xi itself; kept for readability.
+  inline double involute_radius_of_curvature_mm(const double roll_length_mm)
+  {
+    return roll_length_mm;
+  }
+} // namespace hertzgear::meshing

@@ -1,0 +1,294 @@
+#include "meshing/pair_kinematics.h"
+
+#include "common/errors.h"
+#include "meshing/involute.h"
+
+#include <cmath>
+#include <limits>
+
+namespace hertzgear::meshing
+{
+  namespace
+  {
+    constexpr double pi = 3.14159265358979323846;
+  }
+
+  PairKinematics::PairKinematics(const PairParameters &parameters) : params(parameters)
+  {
+    GearParameters &p1 = params.pinion, &p2 = params.gear;
+    HG_REQUIRE_INPUT(std::abs(p1.module_mm - p2.module_mm) <= 1e-12 * p1.module_mm,
+                     "impossible gear pair: pinion module ", p1.module_mm,
+                     " mm differs from gear module ", p2.module_mm, " mm");
+    HG_REQUIRE_INPUT(std::abs(p1.pressure_angle_rad - p2.pressure_angle_rad) <= 1e-14,
+                     "impossible gear pair: the pressure angles of pinion and gear differ");
+    HG_REQUIRE_INPUT(params.center_distance_mm >= 0 && params.backlash_loa_mm >= 0,
+                     "centre distance and backlash must be >= 0");
+    const double m = p1.module_mm, alpha = p1.pressure_angle_rad;
+    const double r1 = 0.5 * m * p1.teeth, r2 = 0.5 * m * p2.teeth;
+    const double rb1 = r1 * std::cos(alpha), rb2 = r2 * std::cos(alpha);
+
+    // Tight mesh of the unthinned pair (zero backlash): inv(a_w) = inv(a) + 2 tan(a) (x1 + x2) /
+    // (z1 + z2), a_w = (r1 + r2) cos(a) / cos(a_w) (ISO 21771:2007, 5.4).
+    const double alpha_tight =
+      inverse_involute(involute(alpha) + 2 * std::tan(alpha) *
+                                           (p1.profile_shift_coefficient + p2.profile_shift_coefficient) /
+                                           (p1.teeth + p2.teeth));
+    a_tight = (rb1 + rb2) / std::cos(alpha_tight);
+
+    if (params.center_distance_mm > 0)
+      {
+        a_w = params.center_distance_mm;
+        HG_REQUIRE_INPUT(a_w > rb1 + rb2, "centre distance ", a_w,
+                         " mm jams the pair: it is not even above the sum of the base radii ",
+                         rb1 + rb2, " mm (tight-mesh distance ", a_tight, " mm)");
+        alpha_w = std::acos((rb1 + rb2) / a_w);
+      }
+    else
+      {
+        a_w     = a_tight;
+        alpha_w = alpha_tight;
+      }
+    // Backlash by thinning: each gear gives half of j_bn, a normal (base-circle) thickness
+    // reduction of j_bn / 2, i.e. j_bn / (2 cos a) of circular thickness on the reference circle.
+    if (params.backlash_loa_mm > 0)
+      for (GearParameters *g : {&p1, &p2})
+        g->thickness_reduction_mm += 0.5 * params.backlash_loa_mm / std::cos(alpha);
+
+    gears.emplace_back(p1);
+    gears.emplace_back(p2);
+
+    p_b = pinion().base_pitch_mm();
+    // Normal backlash: base pitch minus both tooth thicknesses along the line of action,
+    // s_bn = 2 r_b (psi_b - inv(a_w)) for each gear (the thickness on the operating pitch
+    // circle, 2 r_w (psi_b - inv(a_w)), times cos(a_w)).
+    j_bn = p_b - 2 * rb1 * (pinion().half_base_thickness_angle_rad() - involute(alpha_w)) -
+           2 * rb2 * (gear().half_base_thickness_angle_rad() - involute(alpha_w));
+    L   = a_w * std::sin(alpha_w);
+    s_E = std::sqrt(std::pow(pinion().tip_radius_mm(), 2) - rb1 * rb1);
+    s_A = L - std::sqrt(std::pow(gear().tip_radius_mm(), 2) - rb2 * rb2);
+    check();
+  }
+
+  void PairKinematics::check() const
+  {
+    const GearGeometry &g1 = pinion(), &g2 = gear();
+    HG_REQUIRE_INPUT(j_bn >= -1e-9 * g1.module_mm(), "centre distance ", a_w,
+                     " mm jams the pair: the teeth overlap by ", -j_bn,
+                     " mm along the line of action (the tight-mesh distance is ", a_tight, " mm)");
+    const double c1 = a_w - g1.tip_radius_mm() - g2.root_radius_mm();
+    const double c2 = a_w - g2.tip_radius_mm() - g1.root_radius_mm();
+    HG_REQUIRE_INPUT(c1 > 0 && c2 > 0, "centre distance ", a_w,
+                     " mm jams the pair: no tip clearance (pinion tip to gear root ", c1,
+                     " mm, gear tip to pinion root ", c2, " mm)");
+    const double form1 = g1.base_radius_mm() * g1.form_roll_angle();
+    const double form2 = g2.base_radius_mm() * g2.form_roll_angle();
+    HG_REQUIRE_INPUT(s_A >= form1 - 1e-12, "involute interference: the gear tip (radius ",
+                     g2.tip_radius_mm(), " mm) meets the pinion below its form circle (roll length ",
+                     s_A, " mm < ", form1, " mm of the pinion's form radius ", g1.form_radius_mm(),
+                     " mm)");
+    HG_REQUIRE_INPUT(L - s_E >= form2 - 1e-12, "involute interference: the pinion tip (radius ",
+                     g1.tip_radius_mm(), " mm) meets the gear below its form circle (roll length ",
+                     L - s_E, " mm < ", form2, " mm of the gear's form radius ", g2.form_radius_mm(),
+                     " mm)");
+    HG_REQUIRE_INPUT(contact_ratio() >= 1.0, "contact ratio eps_alpha = ", contact_ratio(),
+                     " is below 1: the next tooth pair is not in contact when the previous one "
+                     "leaves (path of contact ", path_of_contact_mm(), " mm < base pitch ", p_b,
+                     " mm)");
+    const double active = path_of_contact_mm();
+    for (const GearGeometry *g : {&g1, &g2})
+      HG_REQUIRE_INPUT(g->parameters().tip_relief_length_mm <= active + 1e-12,
+                       g->parameters().name, ": tip relief length ",
+                       g->parameters().tip_relief_length_mm,
+                       " mm is larger than the geometry allows: the active profile (path of "
+                       "contact) is only ", active, " mm long");
+  }
+
+  double PairKinematics::reference_center_distance_mm() const
+  {
+    return pinion().reference_radius_mm() + gear().reference_radius_mm();
+  }
+
+  double PairKinematics::operating_pitch_radius_mm(const unsigned int body) const
+  {
+    return gears[body].base_radius_mm() / std::cos(alpha_w);
+  }
+
+  double PairKinematics::gear_ratio() const
+  {
+    return double(gear().n_teeth()) / pinion().n_teeth();
+  }
+
+  double PairKinematics::radius_of_curvature_pinion_mm(const double s) const
+  {
+    return s;
+  }
+
+  double PairKinematics::radius_of_curvature_gear_mm(const double s) const
+  {
+    return L - s;
+  }
+
+  LineOfActionPoint PairKinematics::point_at(const double s) const
+  {
+    LineOfActionPoint pt;
+    pt.roll_distance_mm = s;
+    pt.rho_pinion_mm    = radius_of_curvature_pinion_mm(s);
+    pt.rho_gear_mm      = radius_of_curvature_gear_mm(s);
+    pt.radius_pinion_mm = std::hypot(pinion().base_radius_mm(), pt.rho_pinion_mm);
+    pt.radius_gear_mm   = std::hypot(gear().base_radius_mm(), pt.rho_gear_mm);
+    return pt;
+  }
+
+  LineOfActionPoint PairKinematics::point(const char name) const
+  {
+    switch (name)
+      {
+        case 'A':
+          return point_at(s_A);
+        case 'B':
+          return point_at(s_E - p_b);
+        case 'C':
+          return point_at(pinion().base_radius_mm() * std::tan(alpha_w));
+        case 'D':
+          return point_at(s_A + p_b);
+        case 'E':
+          return point_at(s_E);
+        default:
+          throw InputError(msg("unknown point of the line of action '", name, "' (A-E)"));
+      }
+  }
+
+  double PairKinematics::contact_roll_distance_mm(const int pair, const double mesh_phase) const
+  {
+    return s_A + (mesh_phase + pair) * p_b;
+  }
+
+  std::vector<int> PairKinematics::pairs_in_contact(const double mesh_phase) const
+  {
+    std::vector<int> pairs;
+    const double     tol = 1e-12 * p_b;
+    for (int j = -1; j < 64; ++j)
+      {
+        const double s = contact_roll_distance_mm(j, mesh_phase);
+        if (s > s_E + tol)
+          break;
+        if (s >= s_A - tol)
+          pairs.push_back(j);
+      }
+    return pairs;
+  }
+
+  Eigen::Vector2d PairKinematics::line_of_action_direction() const
+  {
+    return {std::sin(alpha_w), std::cos(alpha_w)};
+  }
+
+  Eigen::Vector2d PairKinematics::line_of_action_point(const double s) const
+  {
+    const double rb1 = pinion().base_radius_mm();
+    return Eigen::Vector2d(rb1 * std::cos(alpha_w), -rb1 * std::sin(alpha_w)) +
+           s * line_of_action_direction();
+  }
+
+  double PairKinematics::pinion_tooth_angle(const double s) const
+  {
+    // The drive flank's tangent point (polar angle centre + psi_b - u) must be T1 at -a_w.
+    return s / pinion().base_radius_mm() - alpha_w - pinion().half_base_thickness_angle_rad();
+  }
+
+  double PairKinematics::gear_tooth_angle(const double s) const
+  {
+    // The gear's drive flank touches T2, at polar angle pi - a_w seen from O2.
+    return pi - alpha_w - gear().half_base_thickness_angle_rad() + (L - s) / gear().base_radius_mm();
+  }
+
+  BodyPlacement PairKinematics::placement(const unsigned int body, const double mesh_phase) const
+  {
+    const double  s0 = contact_roll_distance_mm(0, mesh_phase);
+    BodyPlacement pl;
+    if (body == 0)
+      pl.rotation_rad = pinion_tooth_angle(s0);
+    else
+      {
+        pl.centre_mm    = {a_w, 0};
+        pl.rotation_rad = gear_tooth_angle(s0);
+      }
+    return pl;
+  }
+
+  int PairKinematics::sector_tooth_of_pair(const unsigned int body, const int central_tooth,
+                                           const int pair)
+  {
+    return body == 0 ? central_tooth + pair : central_tooth - pair;
+  }
+
+  double PairKinematics::gear_roll_at_mm(const int pair, const double mesh_phase,
+                                         const double pinion_roll_mm) const
+  {
+    const double s_j = contact_roll_distance_mm(pair, mesh_phase);
+    const double rb1 = pinion().base_radius_mm(), rb2 = gear().base_radius_mm();
+    // Pinion flank point P of roll length s' (tangent point at theta_1 = centre + psi_b - u).
+    const double    t1 = pinion_tooth_angle(s_j) + pinion().half_base_thickness_angle_rad() -
+                      pinion_roll_mm / rb1;
+    const Eigen::Vector2d P = rb1 * Eigen::Vector2d(std::cos(t1), std::sin(t1)) +
+                              pinion_roll_mm * Eigen::Vector2d(-std::sin(t1), std::cos(t1));
+    const Eigen::Vector2d n(std::cos(alpha_w), -std::sin(alpha_w)); // normal to e
+    const double          c2 = gear_tooth_angle(s_j) + gear().half_base_thickness_angle_rad();
+    const Eigen::Vector2d O2(a_w, 0);
+    // Newton on f(v) = (Q(v) - P) . n for the gear flank point Q(v) on the line through P
+    // along e; dQ/dv = r_b2 v (cos t2, sin t2). Start from the point P would meet if it lay on
+    // the line of action.
+    double v = std::max(1e-6, (L - pinion_roll_mm) / rb2);
+    for (int it = 0; it < 60; ++it)
+      {
+        const double          t2 = c2 - v;
+        const Eigen::Vector2d Q  = O2 + rb2 * Eigen::Vector2d(std::cos(t2), std::sin(t2)) +
+                                  rb2 * v * Eigen::Vector2d(-std::sin(t2), std::cos(t2));
+        const double f  = (Q - P).dot(n);
+        const double df = rb2 * v * Eigen::Vector2d(std::cos(t2), std::sin(t2)).dot(n);
+        HG_REQUIRE_NUMERIC(std::abs(df) > 1e-300, "gap: degenerate gear flank parameter");
+        const double step = f / df;
+        v -= step;
+        if (std::abs(step) <= 1e-15 * std::max(1.0, std::abs(v)))
+          break;
+      }
+    return rb2 * v;
+  }
+
+  double PairKinematics::separation_mm(const int pair, const double mesh_phase,
+                                       const double pinion_roll_mm, const double z_mm) const
+  {
+    const double s_j = contact_roll_distance_mm(pair, mesh_phase);
+    const double rb1 = pinion().base_radius_mm(), rb2 = gear().base_radius_mm();
+    const double t1  = pinion_tooth_angle(s_j) + pinion().half_base_thickness_angle_rad() -
+                      pinion_roll_mm / rb1;
+    const Eigen::Vector2d P = rb1 * Eigen::Vector2d(std::cos(t1), std::sin(t1)) +
+                              pinion_roll_mm * Eigen::Vector2d(-std::sin(t1), std::cos(t1));
+    const double    xi2 = gear_roll_at_mm(pair, mesh_phase, pinion_roll_mm);
+    const double    v   = xi2 / rb2;
+    const double    t2  = gear_tooth_angle(s_j) + gear().half_base_thickness_angle_rad() - v;
+    const Eigen::Vector2d Q = Eigen::Vector2d(a_w, 0) +
+                              rb2 * Eigen::Vector2d(std::cos(t2), std::sin(t2)) +
+                              xi2 * Eigen::Vector2d(-std::sin(t2), std::cos(t2));
+    const double geometric = (Q - P).dot(line_of_action_direction());
+    return geometric + pinion().modification_mm(pinion_roll_mm, z_mm) +
+           gear().modification_mm(xi2, z_mm);
+  }
+
+  double PairKinematics::rigid_approach_mm(const double mesh_phase) const
+  {
+    double approach = std::numeric_limits<double>::infinity();
+    for (const int j : pairs_in_contact(mesh_phase))
+      {
+        const double s = contact_roll_distance_mm(j, mesh_phase);
+        approach = std::min(approach, pinion().modification_mm(s, 0) + gear().modification_mm(L - s, 0));
+      }
+    return approach;
+  }
+
+  double PairKinematics::unloaded_gap_mm(const int pair, const double mesh_phase,
+                                         const double pinion_roll_mm, const double z_mm) const
+  {
+    return separation_mm(pair, mesh_phase, pinion_roll_mm, z_mm) - rigid_approach_mm(mesh_phase);
+  }
+} // namespace hertzgear::meshing

@@ -1,0 +1,287 @@
+// ElasticBody<dim> (fem/elastic_body.h): linear elasticity against Lame's thick cylinder,
+// Maxwell-Betti reciprocity of the compliance, and equality of distributed and serial runs.
+#include "fem/elastic_body.h"
+
+#include "common/errors.h"
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/grid/grid_generator.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <set>
+#include <string>
+
+using namespace dealii;
+using hertzgear::fem::ElasticBody;
+
+namespace
+{
+  constexpr double E = 206.0e3, nu = 0.3; // MPa, with lengths in mm
+  constexpr double r_bore = 10.0, r_outer = 20.0, pressure = 100.0;
+
+  // Plane-strain thick cylinder clamped at the bore (u = 0 at r = r_bore) under external pressure
+  // (sigma_rr = -p at r = r_outer): u_r = C1 (r - r_bore^2 / r), from sigma_rr = 2 (lambda + mu) C1
+  // - 2 mu C2 / r^2 with C2 = -C1 r_bore^2 (Lame; Timoshenko & Goodier section 28).
+  class ClampedCylinder : public Function<2>
+  {
+  public:
+    ClampedCylinder()
+      : Function<2>(2)
+    {
+      const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+      c1 = -pressure / (2 * (lambda + mu) + 2 * mu * r_bore * r_bore / (r_outer * r_outer));
+    }
+    double radial(const double r) const { return c1 * (r - r_bore * r_bore / r); }
+    double value(const Point<2> &x, const unsigned int component) const override
+    {
+      const double r = x.norm();
+      return radial(r) * x[component] / r;
+    }
+
+  private:
+    double c1;
+  };
+
+  template <int dim>
+  void make_shell(parallel::distributed::Triangulation<dim> &tria, const unsigned int n_refinements)
+  {
+    // Boundary ids (colorize): 0 on the bore, 1 outside; the shell manifold is on every cell.
+    GridGenerator::hyper_shell(tria, Point<dim>(), r_bore, r_outer, dim == 2 ? 8 : 6, true);
+    tria.refine_global(n_refinements);
+  }
+
+  typename ElasticBody<2>::Parameters parameters_2d(const unsigned int degree)
+  {
+    typename ElasticBody<2>::Parameters p;
+    p.youngs_modulus      = E;
+    p.poisson_ratio       = nu;
+    p.fe_degree           = degree;
+    p.mapping_degree      = degree;
+    p.clamped_boundary_id = 0;
+    return p;
+  }
+
+  // L2 error of the Lame problem on a shell refined n times, with the body on `comm`.
+  double lame_error(const MPI_Comm comm, const unsigned int degree, const unsigned int n_refinements,
+                    types::global_dof_index *n_dofs = nullptr, double *solution_norm = nullptr)
+  {
+    parallel::distributed::Triangulation<2> tria(comm);
+    make_shell(tria, n_refinements);
+    ElasticBody<2> body(tria, parameters_2d(degree));
+    body.run();
+    const auto u = body.solve_traction(1, [](const Point<2> &, const Tensor<1, 2> &n) {
+      return -pressure * n; // external pressure pushes inwards
+    });
+    if (n_dofs != nullptr)
+      *n_dofs = body.n_dofs();
+    if (solution_norm != nullptr)
+      *solution_norm = body.l2_error(u, Functions::ZeroFunction<2>(2));
+    return body.l2_error(u, ClampedCylinder());
+  }
+
+  // Observed orders between successive refinements, printed as a convergence table.
+  std::vector<double> observed_orders(const unsigned int degree, const unsigned int first, const unsigned int last)
+  {
+    std::vector<double> errors, orders;
+    std::cout << "    Q" << degree << ":   level     dofs     L2 error   order\n";
+    for (unsigned int level = first; level <= last; ++level)
+      {
+        types::global_dof_index n_dofs;
+        errors.push_back(lame_error(MPI_COMM_SELF, degree, level, &n_dofs));
+        std::cout << "            " << level << std::setw(10) << n_dofs << std::setw(13) << std::scientific
+                  << std::setprecision(3) << errors.back();
+        if (errors.size() > 1)
+          {
+            orders.push_back(std::log2(errors[errors.size() - 2] / errors.back()));
+            std::cout << std::fixed << std::setprecision(2) << std::setw(8) << orders.back();
+          }
+        std::cout << std::defaultfloat << "\n";
+      }
+    return orders;
+  }
+} // namespace
+
+// The elastic body shall converge to Lame's thick-cylinder solution at the optimal L2 rate
+// h^(p+1) for Q1 (2) and Q2 (3) with a mapping of the same degree. Band: +-0.2 around the
+// theoretical rate on the last refinement, where the asymptotic regime is reached (the smooth
+// solution and curved boundary represented to O(h^(p+1)) give no reason for a lower rate).
+TEST(ElasticBody, ConvergesToLameCylinderAtOptimalRate)
+{
+  const auto q1 = observed_orders(1, 2, 5);
+  EXPECT_NEAR(q1.back(), 2.0, 0.2);
+  const auto q2 = observed_orders(2, 1, 4);
+  EXPECT_NEAR(q2.back(), 3.0, 0.2);
+}
+
+// The compliance between patches shall be symmetric (Maxwell-Betti): C_ij = C_ji to the round-off
+// of the direct solver, in 2D and 3D, for loads along the normal and oblique to it.
+TEST(ElasticBody, PatchComplianceIsReciprocal)
+{
+  {
+    parallel::distributed::Triangulation<2> tria(MPI_COMM_SELF);
+    make_shell(tria, 3);
+    ElasticBody<2> body(tria, parameters_2d(2));
+    body.run();
+    std::vector<ElasticBody<2>::PatchLoad> loads;
+    for (const double angle : {0.1, 0.5, 1.3, 2.9})
+      {
+        const Point<2>     x(r_outer * std::cos(angle), r_outer * std::sin(angle));
+        const Tensor<1, 2> inward = -x / x.norm();
+        Tensor<1, 2>       tangent;
+        tangent[0] = -inward[1];
+        tangent[1] = inward[0];
+        loads.push_back({x, inward, 1.0});
+        loads.push_back({x, 0.6 * inward + 0.8 * tangent, 1.0});
+      }
+    const FullMatrix<double> C = body.patch_compliance(loads);
+    double max_c = 0, max_asym = 0;
+    for (unsigned int i = 0; i < C.m(); ++i)
+      for (unsigned int j = 0; j < C.n(); ++j)
+        {
+          max_c    = std::max(max_c, std::abs(C(i, j)));
+          max_asym = std::max(max_asym, std::abs(C(i, j) - C(j, i)));
+        }
+    std::cout << "    2D: max |C_ij - C_ji| / max |C| = " << max_asym / max_c << "\n";
+    // MUMPS LU on ~10^4 unknowns: backward error ~1e-15 times a condition number ~1e5.
+    EXPECT_LT(max_asym, 1e-10 * max_c);
+    for (unsigned int i = 0; i < C.m(); ++i)
+      EXPECT_GT(C(i, i), 0.0); // work of a load on its own displacement is positive
+  }
+  {
+    parallel::distributed::Triangulation<3> tria(MPI_COMM_SELF);
+    make_shell(tria, 1);
+    typename ElasticBody<3>::Parameters p;
+    p.youngs_modulus = E;
+    p.poisson_ratio  = nu;
+    p.fe_degree      = 1;
+    p.mapping_degree = 1;
+    ElasticBody<3> body(tria, p);
+    body.run();
+    std::vector<ElasticBody<3>::PatchLoad> loads;
+    for (const Point<3> &x : {Point<3>(r_outer, 0, 0), Point<3>(0, r_outer, 0), Point<3>(0, 0, -r_outer),
+                              Point<3>(r_outer / std::sqrt(2.0), 0, r_outer / std::sqrt(2.0))})
+      loads.push_back({x, -x / x.norm(), 6.0});
+    const FullMatrix<double> C = body.patch_compliance(loads);
+    double max_c = 0, max_asym = 0;
+    for (unsigned int i = 0; i < C.m(); ++i)
+      for (unsigned int j = 0; j < C.n(); ++j)
+        {
+          max_c    = std::max(max_c, std::abs(C(i, j)));
+          max_asym = std::max(max_asym, std::abs(C(i, j) - C(j, i)));
+        }
+    std::cout << "    3D: max |C_ij - C_ji| / max |C| = " << max_asym / max_c << "\n";
+    EXPECT_LT(max_asym, 1e-10 * max_c);
+  }
+}
+
+// Point readings shall see the displacement of a patch load: reading a load's own displacement
+// at its centre agrees with the patch-averaged compliance to the variation over the patch, and
+// a reading outside the body or a patch off the surface is refused with an InputError.
+TEST(ElasticBody, PointReadingsAndBadInput)
+{
+  parallel::distributed::Triangulation<2> tria(MPI_COMM_SELF);
+  make_shell(tria, 3);
+  ElasticBody<2> body(tria, parameters_2d(2));
+  body.run();
+  const Point<2>                  x(0, r_outer);
+  const ElasticBody<2>::PatchLoad load{x, Tensor<1, 2>({0.0, -1.0}), 0.5};
+  // Depth reading 2 mm below the patch and the patch average: the same sign and order.
+  const auto C_point = body.compliance({load}, {{Point<2>(0, r_outer - 2.0), Tensor<1, 2>({0.0, -1.0})}});
+  const auto C_patch = body.patch_compliance({load});
+  EXPECT_GT(C_point(0, 0), 0.0);
+  EXPECT_LT(C_point(0, 0), C_patch(0, 0)); // the surface under the load moves most
+  EXPECT_THROW(body.compliance({load}, {{Point<2>(0, 30.0), Tensor<1, 2>({0.0, -1.0})}}), hertzgear::InputError);
+  EXPECT_THROW(body.solve_patch_load({Point<2>(0, 15.0), Tensor<1, 2>({0.0, -1.0}), 0.5}), hertzgear::InputError);
+}
+
+// A body distributed over all ranks shall give the serial body's results (L2 error against Lame,
+// point values, compliance) to solver round-off. Run with mpirun -np 2 (ctest fem.elastic_body_mpi2).
+TEST(ElasticBodyMpi, DistributedEqualsSerial)
+{
+  if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+    std::cout << "    ranks: " << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) << "\n";
+
+  // | ||e_world|| - ||e_self|| | <= ||u_world - u_self||, which is the direct solver's round-off,
+  // about cond(K) eps ||u|| ~ 1e-12 ||u||; 1e-10 ||u|| bounds it with margin. (The errors
+  // themselves are 2e-5 ||u||, so a relative comparison of them would amplify round-off.)
+  double       norm_self   = 0;
+  const double error_world = lame_error(MPI_COMM_WORLD, 2, 3);
+  const double error_self  = lame_error(MPI_COMM_SELF, 2, 3, nullptr, &norm_self);
+  EXPECT_NEAR(error_world, error_self, 1e-10 * norm_self);
+
+  std::vector<ElasticBody<2>::PatchLoad>    loads;
+  std::vector<ElasticBody<2>::PointReading> readings;
+  for (const double angle : {0.2, 1.7, 3.3, 4.9}) // spread over both halves of the partition
+    {
+      const Point<2>     x(r_outer * std::cos(angle), r_outer * std::sin(angle));
+      const Tensor<1, 2> inward = -x / x.norm();
+      loads.push_back({x, inward, 1.0});
+      readings.push_back({x + 1.5 * inward, inward});
+    }
+  const auto compliance_on = [&](const MPI_Comm comm) {
+    parallel::distributed::Triangulation<2> tria(comm);
+    make_shell(tria, 3);
+    ElasticBody<2> body(tria, parameters_2d(2));
+    body.run();
+    return std::pair{body.compliance(loads, readings), body.patch_compliance(loads)};
+  };
+  const auto [C_world, P_world] = compliance_on(MPI_COMM_WORLD);
+  const auto [C_self, P_self]   = compliance_on(MPI_COMM_SELF);
+  for (unsigned int i = 0; i < loads.size(); ++i)
+    for (unsigned int j = 0; j < loads.size(); ++j)
+      {
+        // Different partitions change only the order of floating-point operations: round-off
+        // times cond(K) ~ 1e-12 of the largest entry; 1e-10 leaves margin.
+        EXPECT_NEAR(C_world(i, j), C_self(i, j), 1e-10 * std::abs(P_self(i, i)));
+        EXPECT_NEAR(P_world(i, j), P_self(i, j), 1e-10 * std::abs(P_self(i, i)));
+      }
+}
+
+// A gmsh mesh shall be read with its physical groups as boundary ids (faces) and material ids
+// (cells), so that the body can be clamped on the bore group and loaded on a flank group; a
+// missing file is an InputError.
+TEST(ElasticBody, ReadsGmshPhysicalGroups)
+{
+  // A 2 x 1 plate of two quads: physical line 7 at y = 0, 9 at y = 1, physical surface 3.
+  const std::string filename = ::testing::TempDir() + "hertzgear_plate.msh";
+  {
+    std::ofstream out(filename);
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n"
+           "1 0 0 0\n2 1 0 0\n3 2 0 0\n4 0 1 0\n5 1 1 0\n6 2 1 0\n$EndNodes\n"
+           "$Elements\n6\n1 1 2 7 1 1 2\n2 1 2 7 1 2 3\n3 1 2 9 2 4 5\n4 1 2 9 2 5 6\n"
+           "5 3 2 3 1 1 2 5 4\n6 3 2 3 1 2 3 6 5\n$EndElements\n";
+  }
+  parallel::distributed::Triangulation<2> tria(MPI_COMM_SELF);
+  hertzgear::fem::read_gmsh_mesh(filename, tria);
+  EXPECT_EQ(tria.n_active_cells(), 2u);
+  std::set<types::boundary_id> ids;
+  for (const auto &face : tria.active_face_iterators())
+    if (face->at_boundary())
+      ids.insert(face->boundary_id());
+  EXPECT_EQ(ids.count(7), 1u);
+  EXPECT_EQ(ids.count(9), 1u);
+  for (const auto &cell : tria.active_cell_iterators())
+    EXPECT_EQ(cell->material_id(), 3u);
+
+  tria.refine_global(3);
+  auto p                = parameters_2d(2);
+  p.clamped_boundary_id = 7;
+  ElasticBody<2> body(tria, p);
+  body.set_load_boundary_ids({9});
+  body.run();
+  // A unit load pressing down on the top shall move the top down.
+  const auto C = body.compliance({{Point<2>(1.0, 1.0), Tensor<1, 2>({0.0, -1.0}), 0.2}},
+                                 {{Point<2>(1.0, 0.9), Tensor<1, 2>({0.0, -1.0})}});
+  EXPECT_GT(C(0, 0), 0.0);
+
+  parallel::distributed::Triangulation<2> other(MPI_COMM_SELF);
+  EXPECT_THROW(hertzgear::fem::read_gmsh_mesh(::testing::TempDir() + "no_such_mesh.msh", other),
+               hertzgear::InputError);
+}
