@@ -51,6 +51,7 @@ namespace hertzgear
     j["mean_mesh_force_N"]          = s.mean_force_N;
     j["static_force_N"]             = s.static_force_N;
     j["max_mesh_force_N"]           = s.max_force_N;
+    j["min_mesh_force_N"]           = s.min_force_N;
     j["dynamic_factor"]             = s.dynamic_factor;
     j["contact_loss_fraction"]      = s.contact_loss_fraction;
     j["contact_losses_per_period"]  = s.contact_losses_per_period;

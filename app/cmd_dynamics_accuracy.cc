@@ -153,7 +153,9 @@ namespace hertzgear
         // The plot is a convenience: its absence (no python3/matplotlib) is not an error.
         const std::filesystem::path script =
           std::filesystem::path(HERTZGEAR_SOURCE_DIR) / "scripts" / "plot_accuracy_dynamics.py";
-        const std::string command = "python3 '" + script.string() + "' '" +
+        // Debian's interpreter carries matplotlib; a python3 earlier on PATH may not.
+        const std::string python  = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+        const std::string command = python + " '" + script.string() + "' '" +
                                     (dir.path() / "accuracy_dynamics.csv").string() + "' '" +
                                     (dir.path() / "accuracy_dynamics.png").string() + "'";
         if (std::filesystem::exists(script) && std::system(command.c_str()) != 0)

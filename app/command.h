@@ -60,6 +60,7 @@ namespace hertzgear
   void add_dynamics_commands(CommandRegistry &registry); // dynamics, sweep, accuracy dynamics
   void add_geometry_commands(CommandRegistry &registry); // geometry, mesh
   void add_report_command(CommandRegistry &registry); // report
+  void add_stiffness_commands(CommandRegistry &registry); // stiffness
 
   // Figures and DIR/report/index.html (or report_dir) from the artifacts in run_dir; returns the
   // exit code (2 when run_dir holds no artifact). Used by `report` and at the end of `run`.

@@ -12,12 +12,15 @@
 #include <hertzgear/version.h>
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 
 #include <iostream>
 
 int main(int argc, char **argv)
 {
   using namespace hertzgear;
+  // MPI and PETSc for the FE stage (and sweeps over ranks); one thread per rank by default.
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   CLI::App app{"hertzgear: finite-element contact stiffness and gear-pair dynamics", "hertzgear"};
   app.set_version_flag("--version",
                        std::string("hertzgear ") + version + " (git " + git_revision + ")");
@@ -30,6 +33,7 @@ int main(int argc, char **argv)
   add_dynamics_commands(registry);
   add_geometry_commands(registry);
   add_report_command(registry);
+  add_stiffness_commands(registry);
 
   // CLI11 would call an unknown command "extra positional arguments"; name it instead.
   if (argc > 1 && argv[1][0] != '-')

@@ -133,6 +133,7 @@ namespace hertzgear::dynamics
     const std::size_t n = s.size() - 1;
     double            sum_x = 0, sum_x2 = 0, sum_f = 0;
     sum.min_dte_m = sum.max_dte_m = s[0].dte_m;
+    sum.min_force_N = sum.max_force_N = s[0].force_N;
     std::size_t n_lost = 0, n_losses = 0;
     for (std::size_t i = 0; i < n; ++i)
       {
@@ -142,6 +143,7 @@ namespace hertzgear::dynamics
         sum.min_dte_m         = std::min(sum.min_dte_m, s[i].dte_m);
         sum.max_dte_m         = std::max(sum.max_dte_m, s[i].dte_m);
         sum.max_force_N       = std::max(sum.max_force_N, s[i].force_N);
+        sum.min_force_N       = std::min(sum.min_force_N, s[i].force_N);
         sum.max_penetration_m = std::max(sum.max_penetration_m, std::abs(s[i].penetration_m));
         n_lost += s[i].contact == 0;
         if (i > 0 && s[i - 1].contact != 0 && s[i].contact == 0)

@@ -75,6 +75,7 @@ namespace hertzgear::dynamics
     double max_dte_m             = 0.0;
     double mean_force_N          = 0.0;
     double max_force_N           = 0.0;
+    double min_force_N           = 0.0; // < 0 when a viscous part pulls (docs/dynamics.md)
     double static_force_N        = 0.0;
     double dynamic_factor        = 0.0; // max F / F_0 (0 when F_0 = 0)
     double max_penetration_m     = 0.0;

@@ -241,10 +241,9 @@ namespace hertzgear::dynamics
             r.penetration  = d;
             r.delta_dot    = d_dot;
             r.u_dot        = r.f_dot - d_dot;
-            r.force        = k * (r.f - d) + c * r.u_dot;
-            r.layer_closed = r.zone != 0 && r.force * r.zone > 0.0;
-            if (!r.layer_closed)
-              r.force = 0.0; // the contact does not pull
+            r.layer_closed = r.zone != 0;
+            // The viscous part is kept when it makes F pull (Kahraman-Singh convention).
+            r.force = r.layer_closed ? k * (r.f - d) + c * r.u_dot : 0.0;
             break;
           }
         case HertzianLayer::dynamic:
@@ -252,11 +251,10 @@ namespace hertzgear::dynamics
             const double kh = k_hertz(t);
             if (prm.rigid_structure)
               {
-                const double F = kh * G(r.f, n_exp) + mu * H(r.f, n_exp) * r.f_dot;
                 r.penetration  = r.f;
                 r.delta_dot    = r.f_dot;
-                r.layer_closed = r.zone != 0 && F * r.zone > 0.0;
-                r.force        = r.layer_closed ? F : 0.0;
+                r.layer_closed = r.zone != 0;
+                r.force        = kh * G(r.f, n_exp) + mu * H(r.f, n_exp) * r.f_dot;
                 break;
               }
             const double d = y[2];
@@ -267,12 +265,10 @@ namespace hertzgear::dynamics
                 const double D = c + mu * H(d, n_exp);
                 const double N = k * (r.f - d) + c * r.f_dot - kh * G(d, n_exp);
                 r.delta_dot    = D > 0.0 ? N / D : 0.0;
-                const double F = kh * G(d, n_exp) + mu * H(d, n_exp) * r.delta_dot;
-                // The layer carries no tension: a Hunt-Crossley force that would pull opens it.
-                if (F * r.zone < 0.0)
-                  r.layer_closed = false;
-                else
-                  r.force = F;
+                // The layer opens when delta returns to 0 (an event). Before that, in a rebound
+                // faster than 1/(1.5 alpha), the Hunt-Crossley term may make F pull briefly: it is
+                // kept (Kahraman-Singh convention), which keeps the vector field continuous.
+                r.force = kh * G(d, n_exp) + mu * H(d, n_exp) * r.delta_dot;
               }
             if (!r.layer_closed)
               {

@@ -199,6 +199,9 @@ namespace hertzgear
       check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
       check_petsc(PCSetType(pc, PCLU), "PCSetType");
       check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+      // MUMPS controls (ordering, memory) stay tunable through PETSC_OPTIONS, e.g.
+      // "-mat_mumps_icntl_7 5" for METIS ordering.
+      check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
       // KSPSetUp runs the symbolic and numeric factorisation now, once.
       check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
     }

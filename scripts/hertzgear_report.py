@@ -23,6 +23,7 @@ import os
 import re
 import sys
 import tempfile
+import time
 import traceback
 
 try:
@@ -1648,6 +1649,20 @@ def render_page(report):
        key_results(report), notes, body, matplotlib.__version__)
 
 
+def remove_stale_temporaries(directory, age_s=600):
+    """Temporary files of a report that was killed; young ones may belong to a report running
+    now and are left alone."""
+    now = time.time()
+    for name in os.listdir(directory):
+        if name.startswith(".") and ".hg-partial-" in name:
+            path = os.path.join(directory, name)
+            try:
+                if now - os.path.getmtime(path) > age_s:
+                    os.remove(path)
+            except OSError:
+                pass
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(
         description="Figures and an HTML page from the artifacts of a hertzgear run.")
@@ -1668,6 +1683,7 @@ def main(argv=None):
             % (run_dir, ", ".join(ARTIFACT_NAMES), ", ".join(f + "/" for f in STAGE_FOLDERS if f)))
         return EXIT_BAD_INPUT
     os.makedirs(out_dir, exist_ok=True)
+    remove_stale_temporaries(out_dir)
     style()
     report = Report(art, out_dir)
     index = report.write()

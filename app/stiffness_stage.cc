@@ -1,0 +1,337 @@
+#include "app/stiffness_stage.h"
+
+#include "app/meshing_setup.h"
+#include "app/run_directory.h"
+#include "common/errors.h"
+#include "common/progress.h"
+#include "fem/flank_compliance.h"
+#include "meshing/gear_body_mesher.h"
+
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/tria.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <memory>
+#include <sstream>
+
+namespace hertzgear
+{
+  namespace fs = std::filesystem;
+
+  namespace
+  {
+    // Physical-group tags of GearBodyMesher, read by GridIn as boundary ids.
+    constexpr dealii::types::boundary_id bore_id             = 10;
+    constexpr dealii::types::boundary_id sector_cut_start_id = 11;
+    constexpr dealii::types::boundary_id sector_cut_end_id   = 12;
+    constexpr unsigned int               drive_flank_id = 100; // + sector tooth index
+
+    // Element size in the contact band [mm] at the scene's level (as the mesher sizes it).
+    double band_element_size_mm(const meshing::MeshSettings &m, const double module_mm)
+    {
+      return m.band_size_modules * module_mm / std::pow(2.0, m.refinement_level);
+    }
+
+    struct Body
+    {
+      virtual ~Body() = default;
+      virtual const fem::FlankCompliance &compliance() const = 0;
+      virtual std::size_t                 n_dofs() const     = 0;
+    };
+
+    template <int dim>
+    struct BodyModel : Body
+    {
+      dealii::Triangulation<dim>                         triangulation;
+      std::unique_ptr<fem::ElasticBody<dim>>             body;
+      std::unique_ptr<fem::TabulatedFlankCompliance<dim>> table;
+
+      BodyModel(const fs::path &msh, const MaterialScene &material, const Scene &scene,
+                const meshing::GearGeometry &gear, const int central,
+                const std::vector<int> &teeth, const fem::FlankTableSettings &table_settings)
+      {
+        dealii::GridIn<dim> grid_in;
+        grid_in.attach_triangulation(triangulation);
+        std::ifstream in(msh);
+        HG_REQUIRE_INPUT(in.good(), "cannot read mesh ", msh.string());
+        grid_in.read_msh(in);
+        // A sector is held at the bore and at both radial cuts: free cuts would let the sector
+        // swing as a cantilevered wedge, far more compliant than the full disc it stands for
+        // (docs/theory-tca.md quantifies the difference against a full-gear mesh).
+        for (const auto &face : triangulation.active_face_iterators())
+          if (face->at_boundary() &&
+              (face->boundary_id() == sector_cut_start_id || face->boundary_id() == sector_cut_end_id))
+            face->set_boundary_id(bore_id);
+
+        typename fem::ElasticBody<dim>::Parameters p;
+        p.youngs_modulus      = material.youngs_modulus_MPa;
+        p.poisson_ratio       = material.poisson_ratio;
+        p.fe_degree           = scene.stiffness.fe_degree;
+        p.mapping_degree      = 1; // gmsh's straight-sided cells: no curved manifold attached
+        p.clamped_boundary_id = bore_id;
+        body = std::make_unique<fem::ElasticBody<dim>>(triangulation, p);
+        std::set<dealii::types::boundary_id> flanks;
+        for (const int t : teeth)
+          flanks.insert(static_cast<dealii::types::boundary_id>(drive_flank_id + central + t));
+        body->set_load_boundary_ids(flanks);
+        body->run();
+        fem::FlankTableSettings s = table_settings;
+        s.teeth                  = teeth;
+        table = std::make_unique<fem::TabulatedFlankCompliance<dim>>(*body, gear, central, s);
+      }
+      const fem::FlankCompliance &compliance() const override { return *table; }
+      std::size_t                 n_dofs() const override { return body->n_dofs(); }
+    };
+
+    std::unique_ptr<Body> make_body(const int dim, const fs::path &msh, const MaterialScene &m,
+                                    const Scene &scene, const meshing::GearGeometry &gear,
+                                    const int central, const std::vector<int> &teeth,
+                                    const fem::FlankTableSettings &settings)
+    {
+      if (dim == 2)
+        return std::make_unique<BodyModel<2>>(msh, m, scene, gear, central, teeth, settings);
+      return std::make_unique<BodyModel<3>>(msh, m, scene, gear, central, teeth, settings);
+    }
+
+    double roll_at_radius(const meshing::GearGeometry &g, const double r)
+    {
+      return std::sqrt(std::max(0.0, r * r - g.base_radius_mm() * g.base_radius_mm()));
+    }
+  } // namespace
+
+  StiffnessStageResult run_stiffness_stage(const Scene &scene, const fs::path &mesh_dir,
+                                           PhaseTimer &timer)
+  {
+    HG_REQUIRE_INPUT(scene.operating.torque_Nm > 0, "Operating/torque_Nm = ",
+                     scene.operating.torque_Nm,
+                     ": the loaded tooth contact analysis needs a positive torque");
+    const int dim = scene.stiffness.fe_dimension;
+    HG_REQUIRE_INPUT(dim == 3 || (scene.pinion.crowning_um == 0 && scene.gear.crowning_um == 0),
+                     "Stiffness/fe_dimension = 2 cannot represent lead crowning; use 3");
+
+    StiffnessStageResult result;
+    std::unique_ptr<meshing::PairKinematics> kin;
+    {
+      PhaseTimer::Scope scope(timer, "geometry");
+      kin = std::make_unique<meshing::PairKinematics>(make_pair(scene));
+    }
+    const double r_b1 = kin->pinion().base_radius_mm();
+    result.load_N     = scene.operating.torque_Nm * 1.0e3 / r_b1;
+
+    // Which teeth can carry load: pair j uses pinion tooth +j and gear tooth -j; pairs 0 ..
+    // ceil(eps) along the path, one more on each side for extended contact and for the
+    // neighbouring flank's influence.
+    const int n_pairs = static_cast<int>(std::ceil(kin->contact_ratio()));
+    const int n_sector = std::min({scene.mesh.teeth_per_sector, scene.pinion.teeth, scene.gear.teeth});
+    std::vector<int> pinion_teeth, gear_teeth;
+    for (int j = -1; j <= n_pairs; ++j)
+      if (std::abs(j) <= n_sector / 2)
+        {
+          pinion_teeth.push_back(j);
+          gear_teeth.push_back(-j);
+        }
+    HG_REQUIRE_INPUT(static_cast<int>(pinion_teeth.size()) >= n_pairs + 1,
+                     "Mesh/teeth_per_sector = ", scene.mesh.teeth_per_sector,
+                     " is too few: the contact ratio ", kin->contact_ratio(), " needs ",
+                     n_pairs + 1, " loaded teeth per body; use at least ", 2 * n_pairs + 1);
+
+    const meshing::MeshSettings mesh = mesh_settings(scene, dim);
+    const double h = band_element_size_mm(mesh, kin->pinion().module_mm());
+    fem::FlankTableSettings table;
+    table.reference_depth_mm = 3.0 * h;
+    table.patch_radius_mm    = 1.5 * h;
+    table.n_face             = dim == 3 ? 6 : 1;
+
+    fs::create_directories(mesh_dir);
+    std::unique_ptr<Body> bodies[2];
+    std::size_t           n_dofs_total = 0;
+    const auto            A = kin->point('A'), E = kin->point('E');
+    for (unsigned int b = 0; b < 2; ++b)
+      {
+        const auto       &gear  = kin->body(b);
+        const std::string name  = b == 0 ? "pinion" : "gear";
+        const double      start = b == 0 ? A.radius_pinion_mm : E.radius_gear_mm;
+        const fs::path    msh   = mesh_dir / (name + ".msh");
+        int               central = 0;
+        {
+          PhaseTimer::Scope scope(timer, "mesh " + name);
+          meshing::GearBodyMesher mesher;
+          const auto quality = mesher.mesh(gear, mesh, start, msh);
+          central            = quality.central_tooth;
+          progress_line("stiffness", name + " mesh: " + std::to_string(quality.n_elements) +
+                                       " elements, " + std::to_string(quality.n_nodes) + " nodes" +
+                                       (quality.full_gear ? " (full gear)" : ""));
+        }
+        PhaseTimer::Scope scope(timer, "FE compliance " + name);
+        // Tabulate the active profile with a margin of one reference depth at each end.
+        fem::FlankTableSettings s = table;
+        s.roll_min_mm = roll_at_radius(gear, start) - table.reference_depth_mm;
+        s.roll_max_mm = roll_at_radius(gear, gear.tip_radius_mm()) - table.patch_radius_mm;
+        s.roll_min_mm = std::max(s.roll_min_mm, roll_at_radius(gear, gear.form_radius_mm()));
+        s.n_roll      = std::max(8u, static_cast<unsigned int>(
+                                      std::ceil((s.roll_max_mm - s.roll_min_mm) /
+                                                table.reference_depth_mm)) + 1);
+        const auto t0 = std::chrono::steady_clock::now();
+        bodies[b] = make_body(dim, msh, b == 0 ? scene.pinion_material : scene.gear_material, scene,
+                              gear, central, b == 0 ? pinion_teeth : gear_teeth, s);
+        n_dofs_total += bodies[b]->n_dofs();
+        const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::ostringstream line;
+        line << name << " FE: " << bodies[b]->n_dofs() << " DOFs, "
+             << (b == 0 ? pinion_teeth : gear_teeth).size() * s.n_roll * s.n_face
+             << " load cases, " << std::fixed << std::setprecision(2) << dt << " s";
+        progress_line("stiffness", line.str());
+        result.metadata["bodies"][name] = {{"dofs", bodies[b]->n_dofs()},
+                                           {"load_cases", (b == 0 ? pinion_teeth : gear_teeth).size() *
+                                                            s.n_roll * s.n_face},
+                                           {"table_roll_nodes", s.n_roll},
+                                           {"table_face_nodes", s.n_face},
+                                           {"wall_time_s", dt}};
+      }
+
+    fem::MeshCycleSettings cs;
+    cs.n_positions    = scene.stiffness.positions_per_cycle;
+    cs.n_harmonics    = scene.stiffness.harmonics;
+    cs.profile_cells  = scene.stiffness.contact_grid_profile_points;
+    cs.face_cells     = scene.stiffness.contact_grid_face_points;
+    cs.hertz_exponent = scene.stiffness.hertz_exponent;
+    cs.plane_strain   = dim == 2;
+    const fem::BodyMaterial m1{scene.pinion_material.youngs_modulus_MPa,
+                               scene.pinion_material.poisson_ratio};
+    const fem::BodyMaterial m2{scene.gear_material.youngs_modulus_MPa,
+                               scene.gear_material.poisson_ratio};
+    const fem::MeshCycle    cycle(*kin, m1, m2, bodies[0]->compliance(), bodies[1]->compliance(), cs);
+    {
+      PhaseTimer::Scope scope(timer, "contact over the mesh cycle");
+      auto              t0 = std::chrono::steady_clock::now();
+      result.cycle = cycle.run(result.load_N, [&](unsigned int i, const fem::PositionResult &p) {
+        const auto         now = std::chrono::steady_clock::now();
+        std::ostringstream line;
+        line << "position " << i + 1 << "/" << cs.n_positions << "  phase " << std::fixed
+             << std::setprecision(3) << p.mesh_phase << "  STE " << std::setprecision(3)
+             << p.ste_mm * 1e3 << " um  k_total " << std::setprecision(1)
+             << p.k_total_secant_N_per_mm * 1e-3 << " N/um  pairs " << p.pairs.size()
+             << "  active cells " << p.n_active << "/" << p.n_cells << "  ("
+             << std::setprecision(2) << std::chrono::duration<double>(now - t0).count() << " s)";
+        progress_line("stiffness", line.str());
+        t0 = now;
+      });
+    }
+
+    // The dynamics' table, in SI: N/m, N/m^n, m.
+    const double n      = cs.hertz_exponent;
+    const auto   to_si  = [](const FourierSeries &s, const double factor) {
+      dynamics::FourierSeries d;
+      d.mean = s.mean * factor;
+      for (unsigned int j = 0; j < s.n_harmonics(); ++j)
+        {
+          d.amplitudes.push_back(s.amplitudes[j] * factor);
+          d.phases_rad.push_back(s.phases_rad[j]);
+        }
+      return d;
+    };
+    auto &t          = result.table;
+    t.hertz_exponent = n;
+    t.source         = "hertzgear stiffness (FE/half-space TCA)";
+    t.k_hertz_N_per_m_pow_n = to_si(result.cycle.k_hertz, std::pow(1.0e3, n));
+    std::vector<double> k_rest;
+    for (const auto &p : result.cycle.positions)
+      {
+        t.samples.mesh_phase.push_back(p.mesh_phase);
+        t.samples.k_total_N_per_m.push_back(p.k_total_secant_N_per_mm * 1e3);
+        t.samples.k_hertz_N_per_m_pow_n.push_back(p.k_hertz * std::pow(1e3, n));
+        t.samples.k_rest_N_per_m.push_back(p.k_rest_N_per_mm * 1e3);
+        t.samples.ste_m.push_back(p.ste_mm * 1e-3);
+        t.samples.unloaded_ste_m.push_back(p.unloaded_ste_mm * 1e-3);
+        k_rest.push_back(p.k_rest_N_per_mm);
+      }
+    std::vector<double> phases = t.samples.mesh_phase;
+    t.k_rest_N_per_m = to_si(fit_fourier_series(phases, k_rest, cs.n_harmonics), 1e3);
+    std::vector<double> unloaded;
+    for (const auto &p : result.cycle.positions)
+      unloaded.push_back(p.unloaded_ste_mm);
+    t.unloaded_ste_m   = to_si(fit_fourier_series(phases, unloaded, cs.n_harmonics), 1e-3);
+    t.has_unloaded_ste = true;
+    t.check();
+
+    result.metadata["dimension"]              = dim;
+    result.metadata["fe_level"]               = scene.stiffness.fe_level;
+    result.metadata["fe_degree"]              = scene.stiffness.fe_degree;
+    result.metadata["dofs"]                   = n_dofs_total;
+    result.metadata["reference_depth_mm"]     = table.reference_depth_mm;
+    result.metadata["load_patch_radius_mm"]   = table.patch_radius_mm;
+    result.metadata["band_element_size_mm"]   = h;
+    result.metadata["contact_band_half_width_mm"] = result.cycle.band_half_width_mm;
+    result.metadata["contact_grid"] = {{"profile_cells", cs.profile_cells},
+                                       {"face_cells", dim == 2 ? 1u : cs.face_cells}};
+    return result;
+  }
+
+  std::string stiffness_csv(const StiffnessStageResult &r, const double n)
+  {
+    std::ostringstream os;
+    os << std::setprecision(10);
+    os << "position,mesh_phase,ste_um,k_total_N_per_m,k_hertz,k_rest_N_per_m,pairs_in_contact,"
+          "load_share_1,load_share_2,hertz_penetration_um,contact_a_mm,contact_b_mm,"
+          "peak_pressure_MPa\n";
+    unsigned int i = 0;
+    for (const auto &p : r.cycle.positions)
+      {
+        // Pair 1 is the pair that entered at phase 0, pair 2 the one ahead of it.
+        double share[2] = {0, 0};
+        const fem::PairState *main_pair = nullptr;
+        unsigned int          n_loaded  = 0;
+        for (const auto &pair : p.pairs)
+          {
+            if (pair.pair == 0 || pair.pair == 1)
+              share[pair.pair] = pair.load_share;
+            n_loaded += pair.load_share > 0;
+            if (!main_pair || pair.force_N > main_pair->force_N)
+              main_pair = &pair;
+          }
+        os << i++ << ',' << p.mesh_phase << ',' << p.ste_mm * 1e3 << ','
+           << p.k_total_secant_N_per_mm * 1e3 << ',' << p.k_hertz * std::pow(1e3, n) << ','
+           << p.k_rest_N_per_mm * 1e3 << ',' << n_loaded << ',' << share[0] << ',' << share[1]
+           << ',' << p.hertz_penetration_mm * 1e3 << ',' << main_pair->contact_a_mm << ','
+           << main_pair->contact_b_mm << ',' << main_pair->peak_pressure_MPa << '\n';
+      }
+    return os.str();
+  }
+
+  nlohmann::json stiffness_json(const StiffnessStageResult &r, const Scene &scene)
+  {
+    nlohmann::json j = nlohmann::json::parse(dynamics::stiffness_table_to_json_text(r.table));
+    const auto     series = [](const FourierSeries &s, const double factor) {
+      nlohmann::json o;
+      o["mean"] = s.mean * factor;
+      std::vector<double> a;
+      for (const double v : s.amplitudes)
+        a.push_back(v * factor);
+      o["amplitudes"]   = a;
+      o["phases_rad"]   = s.phases_rad;
+      o["residual_rms"] = s.residual_rms * factor;
+      return o;
+    };
+    j["k_total_N_per_m"]        = series(r.cycle.k_total, 1e3);
+    j["ste_m"]                  = series(r.cycle.ste_mm, 1e-3);
+    j["k_hertz_unit"]           = "N/m^n";
+    j["mean_k_total_N_per_m"]   = r.cycle.k_total.mean * 1e3;
+    j["mean_k_hertz_N_per_m_pow_n"] = r.table.k_hertz_N_per_m_pow_n.mean;
+    j["mean_k_rest_N_per_m"]    = r.cycle.mean_k_rest_N_per_mm * 1e3;
+    double ste_min = 1e300, ste_max = -1e300;
+    for (const auto &p : r.cycle.positions)
+      {
+        ste_min = std::min(ste_min, p.ste_mm);
+        ste_max = std::max(ste_max, p.ste_mm);
+      }
+    j["ste_peak_to_peak_um"] = (ste_max - ste_min) * 1e3;
+    j["load_N"]              = r.load_N;
+    j["harmonics"]           = scene.stiffness.harmonics;
+    j["fe"]                  = r.metadata;
+    j.update(provenance(scene));
+    return j;
+  }
+} // namespace hertzgear

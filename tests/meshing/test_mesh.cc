@@ -1,0 +1,164 @@
+// Requirements on the gmsh meshes of the gear bodies, checked by reading them back with
+// deal.II's GridIn (the FE stage's reader), independently of the mesher's own bookkeeping:
+//   - every cell is a quadrilateral/hexahedron with a positive Jacobian determinant at every
+//     vertex and quadrature point,
+//   - every named physical group arrives as a boundary id,
+//   - the crowned 3D flank nodes are removed from the nominal involute by exactly
+//     Delta(z) = beta (2z/b)^2 (1e-9 mm: the .msh file stores 16 significant digits, i.e.
+//     ~1e-14 mm here, and the involute evaluation adds rounding of the same order),
+//   - the same scene gives the same mesh file.
+#include "tests/support/run_command.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/tria.h>
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+
+using namespace hertzgear::testing;
+namespace fs = std::filesystem;
+
+namespace
+{
+  constexpr double pi = 3.14159265358979323846;
+
+  template <int dim>
+  void read(dealii::Triangulation<dim> &tria, const fs::path &file)
+  {
+    dealii::GridIn<dim> in;
+    in.attach_triangulation(tria);
+    std::ifstream stream(file);
+    in.read_msh(stream);
+  }
+
+  // Positive Jacobian determinant at the vertices (trapezoidal points) and Gauss points.
+  template <int dim>
+  double min_jacobian(const dealii::Triangulation<dim> &tria)
+  {
+    dealii::FE_Q<dim>     fe(1);
+    dealii::MappingQ1<dim> mapping;
+    double                 min_det = 1e300;
+    for (const auto &quadrature : {dealii::Quadrature<dim>(dealii::QTrapezoid<1>()),
+                                   dealii::Quadrature<dim>(dealii::QGauss<dim>(2))})
+      {
+        dealii::FEValues<dim> fv(mapping, fe, quadrature, dealii::update_jacobians);
+        for (const auto &cell : tria.active_cell_iterators())
+          {
+            fv.reinit(cell);
+            for (unsigned int q = 0; q < quadrature.size(); ++q)
+              min_det = std::min(min_det, double(fv.jacobian(q).determinant()));
+          }
+      }
+    return min_det;
+  }
+
+  template <int dim>
+  std::set<unsigned int> boundary_ids(const dealii::Triangulation<dim> &tria)
+  {
+    std::set<unsigned int> ids;
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const auto f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          ids.insert(cell->face(f)->boundary_id());
+    return ids;
+  }
+
+  std::set<unsigned int> expected_ids(const int n_teeth, const bool three_d)
+  {
+    std::set<unsigned int> ids = {10, 11, 12, 15, 16};
+    if (three_d)
+      ids.insert({13, 14});
+    for (int k = 0; k < n_teeth; ++k)
+      ids.insert({100u + k, 200u + k, 300u + k, 400u + k});
+    return ids;
+  }
+
+  nlohmann::json mesh(const std::string &scene, const std::string &extra, const fs::path &out)
+  {
+    const auto r = run_hertzgear("mesh " + scene_path(scene) + " --out " + out.string() +
+                                 " --set 'Stiffness/fe_level=0' --set 'Mesh/teeth_per_sector=3'" + extra);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(slurp(out / "mesh_quality.json"));
+  }
+} // namespace
+
+TEST(BodyMesh, TwoDimensionalMeshesReadByDealiiWithAllGroupsAndPositiveJacobians)
+{
+  const fs::path out = fresh_temp_dir("mesh2d");
+  const auto     q   = mesh("paper_uncrowned.prm", " --set 'Stiffness/fe_dimension=2'", out);
+  for (const char *body : {"pinion", "gear"})
+    {
+      dealii::Triangulation<2> tria;
+      read(tria, out / (std::string(body) + ".msh"));
+      EXPECT_EQ(tria.n_active_cells(), q.at(body).at("elements").get<std::size_t>());
+      EXPECT_EQ(q.at(body).at("non_quad_elements").get<int>(), 0);
+      EXPECT_GT(min_jacobian(tria), 0.0) << body;
+      EXPECT_GT(q.at(body).at("min_scaled_jacobian").get<double>(), 0.0);
+      EXPECT_EQ(boundary_ids(tria), expected_ids(3, false)) << body;
+      for (const auto &cell : tria.active_cell_iterators())
+        EXPECT_EQ(cell->material_id(), 1u);
+    }
+  // Same scene, same mesh: byte-identical files.
+  const fs::path again = fresh_temp_dir("mesh2d_again");
+  mesh("paper_uncrowned.prm", " --set 'Stiffness/fe_dimension=2'", again);
+  EXPECT_EQ(slurp(out / "pinion.msh"), slurp(again / "pinion.msh"));
+}
+
+TEST(BodyMesh, CrownedThreeDimensionalMeshHasExactCrowningAtFlankNodes)
+{
+  const fs::path out = fresh_temp_dir("mesh3d");
+  const auto     q   = mesh("paper_crowned.prm", " --set 'Mesh/face_width_layers=4'", out);
+  // Independent flank data by hand (paper pinion, thinned for 0.1172 mm backlash): psi_b =
+  // s/(2r) + inv(alpha), s = pi m / 2 - 0.1172 / (2 cos alpha).
+  const double alpha = 20 * pi / 180, m = 3, b = 20, beta = 0.08;
+  const int    z[2] = {23, 34};
+  const char  *body[2] = {"pinion", "gear"};
+  for (int i = 0; i < 2; ++i)
+    {
+      dealii::Triangulation<3> tria;
+      read(tria, out / (std::string(body[i]) + ".msh"));
+      EXPECT_EQ(tria.n_active_cells(), q.at(body[i]).at("elements").get<std::size_t>());
+      EXPECT_GT(min_jacobian(tria), 0.0) << body[i];
+      EXPECT_EQ(boundary_ids(tria), expected_ids(3, true)) << body[i];
+
+      const double r  = 0.5 * m * z[i], rb = r * std::cos(alpha);
+      const double s  = pi * m / 2 - 0.1172 / (2 * std::cos(alpha));
+      const double psi = s / (2 * r) + std::tan(alpha) - alpha;
+      const int    central = 1; // 3 teeth: teeth 0, 1, 2; tooth 1 on the +x axis
+      double       max_err = 0;
+      std::size_t  n_checked = 0;
+      for (const auto &cell : tria.active_cell_iterators())
+        for (const auto f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            {
+              const unsigned int id = cell->face(f)->boundary_id();
+              if (id < 100 || id >= 300)
+                continue;
+              const int tooth = int(id % 100);
+              for (const auto v : cell->face(f)->vertex_indices())
+                {
+                  const auto   p      = cell->face(f)->vertex(v);
+                  const double radius = std::hypot(p[0], p[1]);
+                  const double phi    = std::atan2(p[1], p[0]) - (tooth - central) * 2 * pi / z[i];
+                  const double a_r    = std::acos(rb / radius);
+                  // Removal normal to the flank = r_b times the angular offset from the nominal
+                  // involute (an involute moved by Delta along its normal turns by Delta / r_b).
+                  const double removal  = rb * (psi - (std::tan(a_r) - a_r) - std::abs(phi));
+                  const double expected = beta * std::pow(2 * p[2] / b, 2);
+                  max_err = std::max(max_err, std::abs(removal - expected));
+                  ++n_checked;
+                }
+            }
+      EXPECT_GT(n_checked, 100u);
+      EXPECT_LT(max_err, 1e-9) << body[i] << ": crowning error at the flank nodes";
+    }
+}
