@@ -283,10 +283,10 @@ namespace hertzgear::meshing
             int         tag = 0;
             switch (c.role)
               {
-                case Role::drive_flank: name = "drive_flank_" + std::to_string(c.tooth), tag = 100 + c.tooth; break;
-                case Role::coast_flank: name = "coast_flank_" + std::to_string(c.tooth), tag = 200 + c.tooth; break;
-                case Role::drive_fillet: name = "drive_fillet_" + std::to_string(c.tooth), tag = 300 + c.tooth; break;
-                case Role::coast_fillet: name = "coast_fillet_" + std::to_string(c.tooth), tag = 400 + c.tooth; break;
+                case Role::drive_flank: name = "drive_flank_" + std::to_string(c.tooth), tag = 1000 + c.tooth; break;
+                case Role::coast_flank: name = "coast_flank_" + std::to_string(c.tooth), tag = 2000 + c.tooth; break;
+                case Role::drive_fillet: name = "drive_fillet_" + std::to_string(c.tooth), tag = 3000 + c.tooth; break;
+                case Role::coast_fillet: name = "coast_fillet_" + std::to_string(c.tooth), tag = 4000 + c.tooth; break;
                 case Role::root: name = "root", tag = 15; break;
                 case Role::tip: name = "tip_land", tag = 16; break;
                 case Role::bore: name = "bore", tag = 10; break;

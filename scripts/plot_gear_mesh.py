@@ -73,7 +73,7 @@ def main():
     zs = [p[2] for p in nodes.values()]
     ax.set_xlim(min(xs), max(xs)); ax.set_ylim(min(ys), max(ys)); ax.set_zlim(min(zs), max(zs))
     ax.set_box_aspect((max(xs) - min(xs), max(ys) - min(ys), max(zs) - min(zs)))
-    ax.view_init(elev=28, azim=-60)
+    ax.view_init(elev=22, azim=-15)
     ax.set_xlabel("x [mm]"); ax.set_ylabel("y [mm]"); ax.set_zlabel("z [mm]")
     ax.set_title("%d hexahedra, drive flanks red, coast flanks blue" %
                  sum(1 for e in elements if e[0] == 5))
