@@ -125,10 +125,17 @@ namespace hertzgear
     // ceil(eps) along the path, one more on each side for extended contact and for the
     // neighbouring flank's influence.
     const int n_pairs = static_cast<int>(std::ceil(kin->contact_ratio()));
-    const int n_sector = std::min({scene.mesh.teeth_per_sector, scene.pinion.teeth, scene.gear.teeth});
+    // A body meshed as a sector has teeth 0 .. N-1 with the central one N/2; a full gear has all.
+    const auto has_tooth = [&](const int z, const int relative) {
+      const int n_sector = scene.mesh.teeth_per_sector;
+      if (n_sector >= z)
+        return true;
+      const int k = n_sector / 2 + relative;
+      return k >= 0 && k < n_sector;
+    };
     std::vector<int> pinion_teeth, gear_teeth;
     for (int j = -1; j <= n_pairs; ++j)
-      if (std::abs(j) <= n_sector / 2)
+      if (has_tooth(scene.pinion.teeth, j) && has_tooth(scene.gear.teeth, -j))
         {
           pinion_teeth.push_back(j);
           gear_teeth.push_back(-j);

@@ -29,7 +29,7 @@ def main(csv_path, png_path):
                     pts.append((t, max(err, 1e-16), r["relative_tolerance"] or r["steps_per_period"]))
             if not pts:
                 continue
-            pts.sort()
+            # In table order (tightening tolerance, or more steps), so each line reads as a ladder.
             ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=name)
             for t, e, tag in pts:
                 ax.annotate(tag, (t, e), fontsize=6, textcoords="offset points", xytext=(3, 3))
