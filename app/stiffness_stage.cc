@@ -121,9 +121,9 @@ namespace hertzgear
     const double r_b1 = kin->pinion().base_radius_mm();
     result.load_N     = scene.operating.torque_Nm * 1.0e3 / r_b1;
 
-    // Which teeth can carry load: pair j uses pinion tooth +j and gear tooth -j; pairs 0 ..
-    // ceil(eps) along the path, one more on each side for extended contact and for the
-    // neighbouring flank's influence.
+    // Which teeth can carry load: pair j uses pinion tooth +j and gear tooth -j, and pairs
+    // 0 .. ceil(eps) - 1 meet the path of contact during one cycle (unloaded teeth need no
+    // column in the compliance table).
     const int n_pairs = static_cast<int>(std::ceil(kin->contact_ratio()));
     // A body meshed as a sector has teeth 0 .. N-1 with the central one N/2; a full gear has all.
     const auto has_tooth = [&](const int z, const int relative) {
@@ -134,16 +134,17 @@ namespace hertzgear
       return k >= 0 && k < n_sector;
     };
     std::vector<int> pinion_teeth, gear_teeth;
-    for (int j = -1; j <= n_pairs; ++j)
+    for (int j = 0; j < n_pairs; ++j)
       if (has_tooth(scene.pinion.teeth, j) && has_tooth(scene.gear.teeth, -j))
         {
           pinion_teeth.push_back(j);
           gear_teeth.push_back(-j);
         }
-    HG_REQUIRE_INPUT(static_cast<int>(pinion_teeth.size()) >= n_pairs + 1,
+    HG_REQUIRE_INPUT(static_cast<int>(pinion_teeth.size()) == n_pairs,
                      "Mesh/teeth_per_sector = ", scene.mesh.teeth_per_sector,
-                     " is too few: the contact ratio ", kin->contact_ratio(), " needs ",
-                     n_pairs + 1, " loaded teeth per body; use at least ", 2 * n_pairs + 1);
+                     " is too few: the contact ratio ", kin->contact_ratio(), " needs ", n_pairs,
+                     " loaded teeth on each side of the sector's centre; use at least ",
+                     2 * n_pairs + 1);
 
     const meshing::MeshSettings mesh = mesh_settings(scene, dim);
     const double h = band_element_size_mm(mesh, kin->pinion().module_mm());
@@ -173,11 +174,11 @@ namespace hertzgear
                                        (quality.full_gear ? " (full gear)" : ""));
         }
         PhaseTimer::Scope scope(timer, "FE compliance " + name);
-        // Tabulate the active profile with a margin of one reference depth at each end.
+        // Tabulate the active profile, where the mesher refines the band; grid cells just
+        // outside it (within the band half-width) take the value of the nearest node.
         fem::FlankTableSettings s = table;
-        s.roll_min_mm = roll_at_radius(gear, start) - table.reference_depth_mm;
+        s.roll_min_mm = roll_at_radius(gear, start) + table.patch_radius_mm;
         s.roll_max_mm = roll_at_radius(gear, gear.tip_radius_mm()) - table.patch_radius_mm;
-        s.roll_min_mm = std::max(s.roll_min_mm, roll_at_radius(gear, gear.form_radius_mm()));
         s.n_roll      = std::max(8u, static_cast<unsigned int>(
                                       std::ceil((s.roll_max_mm - s.roll_min_mm) /
                                                 table.reference_depth_mm)) + 1);

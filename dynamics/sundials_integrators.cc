@@ -123,9 +123,8 @@ namespace hertzgear::dynamics
         msg(module, "/", function, ": ", message);
     }
 
-    std::string remedy_for(const std::string &name, const int flag_too_much_work)
+    std::string remedy_for(const std::string &name)
     {
-      (void)flag_too_much_work;
       if (name == "arkode-erk")
         return "the explicit integrator is limited by the stiffness of the Hertzian layer; use "
                "Dynamics/integrator = cvode-bdf";
@@ -158,9 +157,9 @@ namespace hertzgear::dynamics
                   throw NumericalError(msg(name, " failed at t = ", t, " s with ", flag_name(flag),
                                            " (", data.last_error, "); state ",
                                            system.describe_state(y), ". Remedy: ",
-                                           remedy_for(name, flag)));
+                                           remedy_for(name)));
                 }
-              check_state(system, t, y, name, remedy_for(name, 0));
+              check_state(system, t, y, name, remedy_for(name));
               if (is_root(flag))
                 {
                   ++stats.events;

@@ -42,7 +42,7 @@ namespace hertzgear
     };
 
     // Surface normal displacement at (x, y) due to pressure p on |xi| <= half_x, |eta| <= half_y
-    // (Love 1929; Johnson 1985, eq. 3.25): exact closed form.
+    // (Love 1929; Johnson 1985, ch. 3): exact closed form.
     double rectangle_surface_displacement(const double x, const double y, const double half_x,
                                           const double half_y, const double pressure,
                                           const double youngs_modulus, const double poisson_ratio);

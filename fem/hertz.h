@@ -77,8 +77,8 @@ namespace hertzgear
     };
 
     // F and the relative principal curvatures kappa_x, kappa_y (> 0) of the gap
-    // h = kappa_x x^2 / 2 + kappa_y y^2 / 2. The eccentricity solves (Johnson 1985, eq. 4.? of
-    // the ellipse section; Timoshenko & Goodier section 140)
+    // h = kappa_x x^2 / 2 + kappa_y y^2 / 2. The eccentricity solves (Johnson 1985, ch. 3-4,
+    // Hertz's elliptical contact; Timoshenko & Goodier section 140)
     //   B / A = (E(e)/(1 - e^2) - K(e)) / (K(e) - E(e)),   B >= A,
     // then a^3 = 3 F (K - E) / (2 pi e^2 A E*), b = a sqrt(1 - e^2).
     EllipticalContact elliptical_contact(const double load, const double kappa_x,

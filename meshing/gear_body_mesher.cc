@@ -49,6 +49,9 @@ namespace hertzgear::meshing
         : g(gear), s(settings), r_active(r_active)
       {
         n_teeth = std::min(settings.teeth_per_sector, gear.n_teeth());
+        // Physical tags 100 + k ... 400 + k must not overlap (the FE stage relies on them).
+        HG_REQUIRE_INPUT(n_teeth <= 100, gear.parameters().name, ": ", n_teeth,
+                         " teeth in one mesh; at most 100 (set Mesh/teeth_per_sector <= 100)");
         full    = settings.teeth_per_sector >= gear.n_teeth();
         central = GearBodyMesher::central_tooth(n_teeth);
         z0      = settings.dimension == 3 ? -0.5 * gear.face_width_mm() : 0.0;
@@ -283,10 +286,10 @@ namespace hertzgear::meshing
             int         tag = 0;
             switch (c.role)
               {
-                case Role::drive_flank: name = "drive_flank_" + std::to_string(c.tooth), tag = 1000 + c.tooth; break;
-                case Role::coast_flank: name = "coast_flank_" + std::to_string(c.tooth), tag = 2000 + c.tooth; break;
-                case Role::drive_fillet: name = "drive_fillet_" + std::to_string(c.tooth), tag = 3000 + c.tooth; break;
-                case Role::coast_fillet: name = "coast_fillet_" + std::to_string(c.tooth), tag = 4000 + c.tooth; break;
+                case Role::drive_flank: name = "drive_flank_" + std::to_string(c.tooth), tag = 100 + c.tooth; break;
+                case Role::coast_flank: name = "coast_flank_" + std::to_string(c.tooth), tag = 200 + c.tooth; break;
+                case Role::drive_fillet: name = "drive_fillet_" + std::to_string(c.tooth), tag = 300 + c.tooth; break;
+                case Role::coast_fillet: name = "coast_fillet_" + std::to_string(c.tooth), tag = 400 + c.tooth; break;
                 case Role::root: name = "root", tag = 15; break;
                 case Role::tip: name = "tip_land", tag = 16; break;
                 case Role::bore: name = "bore", tag = 10; break;

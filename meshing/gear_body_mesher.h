@@ -18,12 +18,12 @@
 //   tag 11, 12       sector_cut_start (clockwise end), sector_cut_end   (sector only)
 //   tag 13, 14       face_back (z = -b/2), face_front (z = +b/2)        (3D only)
 //   tag 15, 16       root (root-circle arcs), tip_land
-//   tag 1000 + k     drive_flank_k  (+theta flank of tooth k: the loaded flank when the pinion
-//                                    drives, see PairKinematics); k < 1000 = the most teeth a
-//                                    scene allows, so the ranges never overlap
-//   tag 2000 + k     coast_flank_k
-//   tag 3000 + k     drive_fillet_k
-//   tag 4000 + k     coast_fillet_k
+//   tag 100 + k      drive_flank_k  (+theta flank of tooth k: the loaded flank when the pinion
+//                                    drives, see PairKinematics); at most 100 teeth per mesh,
+//                                    so the ranges never overlap
+//   tag 200 + k      coast_flank_k
+//   tag 300 + k      drive_fillet_k
+//   tag 400 + k      coast_fillet_k
 #include "meshing/gear_geometry.h"
 
 #include <filesystem>

@@ -45,7 +45,7 @@ namespace
 
 // The surface displacement at the centre and at a corner of a square of side 2a under pressure
 // p shall equal Love's values (8/pi) ln(1 + sqrt 2) (1 - nu^2) p a / E and half of it
-// (Johnson 1985, section 3.? after Love 1929); exact, so round-off tolerance.
+// (Love 1929; Johnson 1985, ch. 3); exact, so round-off tolerance.
 TEST(HalfSpace, SquareCentreAndCornerMatchLove)
 {
   const double a = 2.0e-4, p = 1.5e9;

@@ -319,3 +319,32 @@ TEST(Kinematics, PairsInContactFollowContactRatio)
   ag = std::remainder(ag, 2 * pi);
   EXPECT_NEAR(ag, k.gear().flank_polar_angle_rad(Q.norm()), 1e-12);
 }
+
+// Across the profile the unloaded gap of unmodified flanks shall be, to leading order, the Hertz
+// gap of two cylinders with the flanks' radii of curvature: d^2/2 (1/rho1 + 1/rho2), d the distance
+// of the pinion flank point from the contact line. The involute's curvature changes along the
+// profile (d rho / ds = 1), so the next term is of relative size ~ d / rho_min; the tolerance is
+// 3 d / rho_min.
+TEST(Gap, AcrossTheProfileFollowsTheHertzGap)
+{
+  const PairKinematics  k(paper_pair());
+  const Eigen::Vector2d n(std::cos(k.operating_pressure_angle_rad()), -std::sin(k.operating_pressure_angle_rad()));
+  for (const double tau : {0.1, 0.6})
+    for (const int j : k.pairs_in_contact(tau))
+      {
+        const double s    = k.contact_roll_distance_mm(j, tau);
+        const double rho1 = k.radius_of_curvature_pinion_mm(s), rho2 = k.radius_of_curvature_gear_mm(s);
+        const auto   pl   = k.placement(0, tau);
+        const double centre_angle = pl.rotation_rad + j * k.pinion().angular_pitch_rad();
+        for (const double ds : {-0.05, -0.02, 0.02, 0.05})
+          {
+            const double          u = (s + ds) / k.pinion().base_radius_mm();
+            const Eigen::Vector2d P = GearGeometry::rotate(k.pinion().involute_point(u), centre_angle);
+            const double          d = std::abs((P - k.line_of_action_point(s)).dot(n));
+            const double          hertz = 0.5 * d * d * (1 / rho1 + 1 / rho2);
+            const double          gap   = k.unloaded_gap_mm(j, tau, s + ds, 0);
+            EXPECT_NEAR(gap, hertz, 3 * d / std::min(rho1, rho2) * hertz)
+              << "tau " << tau << " pair " << j << " ds " << ds;
+          }
+      }
+}

@@ -78,7 +78,7 @@ namespace
     if (three_d)
       ids.insert({13, 14});
     for (int k = 0; k < n_teeth; ++k)
-      ids.insert({1000u + k, 2000u + k, 3000u + k, 4000u + k});
+      ids.insert({100u + k, 200u + k, 300u + k, 400u + k});
     return ids;
   }
 
@@ -141,9 +141,9 @@ TEST(BodyMesh, CrownedThreeDimensionalMeshHasExactCrowningAtFlankNodes)
           if (cell->face(f)->at_boundary())
             {
               const unsigned int id = cell->face(f)->boundary_id();
-              if (id < 1000 || id >= 3000) // drive and coast flanks
+              if (id < 100 || id >= 300) // drive and coast flanks
                 continue;
-              const int tooth = int(id % 1000);
+              const int tooth = int(id % 100);
               for (const auto v : cell->face(f)->vertex_indices())
                 {
                   const auto   p      = cell->face(f)->vertex(v);
