@@ -51,7 +51,10 @@ cmake --build "$build_dir" -j "$jobs"
 case "$mode" in
   build) ;;
   run)
-    "$build_dir/app/hertzgear" check data/scenes/paper_crowned.prm --out results/paper_crowned
+    # The paper's crowned pair with its Fourier stiffness: dynamics, then the report.
+    "$build_dir/app/hertzgear" dynamics data/scenes/paper_crowned_fourier.prm --out results/paper_crowned
+    "$build_dir/app/hertzgear" report results/paper_crowned
+    echo "[setup] open results/paper_crowned/report/index.html"
     ;;
   test)
     ctest --test-dir "$build_dir" -LE long --output-on-failure -j "$jobs" --timeout 900
