@@ -232,6 +232,7 @@ namespace hertzgear
       st.fe_degree                   = 2;
       st.contact_grid_profile_points = 24;
       st.contact_grid_face_points    = 16;
+      st.contact_max_iterations      = 100;
       st.linear_solver               = "direct";
       st.linear_solver_tolerance     = 1.0e-10;
       s.enter("Stiffness", "Where the mesh stiffness comes from and how finely it is resolved.");
@@ -260,6 +261,9 @@ namespace hertzgear
             "Contact grid points across the profile per tooth pair (count).");
       s.add("contact_grid_face_points", st.contact_grid_face_points, Patterns::Integer(1, 4096),
             "Contact grid points along the face width per tooth pair (count).");
+      s.add("contact_max_iterations", st.contact_max_iterations, Patterns::Integer(1, 100000),
+            "Iteration cap of the active-set contact solver per solve (count); reaching it is a "
+            "numerical failure (exit 3) with the history of the active set.");
       s.add("linear_solver", st.linear_solver, Patterns::Selection("direct|amg-cg"),
             "Linear solver of the FE bodies: direct (MUMPS, factorised once and reused) or amg-cg.");
       s.add("linear_solver_tolerance", st.linear_solver_tolerance, Patterns::Double(1.0e-16, 1.0e-2),

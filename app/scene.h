@@ -74,6 +74,7 @@ namespace hertzgear
     int                   fe_degree           = 0;
     int                   contact_grid_profile_points = 0;
     int                   contact_grid_face_points    = 0;
+    int                   contact_max_iterations      = 0;
     std::string           linear_solver; // direct | amg-cg
     double                linear_solver_tolerance = 0;
     FourierScene          fourier;

@@ -207,6 +207,7 @@ namespace hertzgear
     cs.face_cells     = scene.stiffness.contact_grid_face_points;
     cs.hertz_exponent = scene.stiffness.hertz_exponent;
     cs.plane_strain   = dim == 2;
+    cs.max_contact_iterations = static_cast<unsigned int>(scene.stiffness.contact_max_iterations);
     const fem::BodyMaterial m1{scene.pinion_material.youngs_modulus_MPa,
                                scene.pinion_material.poisson_ratio};
     const fem::BodyMaterial m2{scene.gear_material.youngs_modulus_MPa,

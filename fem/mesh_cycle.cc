@@ -192,7 +192,9 @@ namespace hertzgear::fem
     problem.gap        = g.gap;
     problem.area       = g.area;
     problem.load       = load_N;
-    return ContactSolver().solve(problem);
+    ContactSettings contact_settings;
+    contact_settings.max_iterations = settings.max_contact_iterations;
+    return ContactSolver(contact_settings).solve(problem);
   }
 
   PositionResult MeshCycle::solve_position(const double mesh_phase, const double load_N) const

@@ -86,6 +86,7 @@ namespace hertzgear::fem
     // Pairs whose contact line lies up to this many base pitches outside the path of contact are
     // included (extended contact near the tips under load); their gap decides whether they touch.
     double extended_contact_pitches = 0.0;
+    unsigned int max_contact_iterations = 100; // of the active-set solver, per solve
   };
 
   struct PairState

@@ -87,3 +87,17 @@ TEST(StiffnessCli, LoadsAndSettingsItCannotAnalyseExitTwo)
       EXPECT_FALSE(fs::exists(out / "stiffness.csv")) << c.set;
     }
 }
+
+TEST(StiffnessCli, AContactSolveThatDoesNotConvergeExitsThree)
+{
+  // Requirement: a contact solve that reaches its iteration cap is a numerical failure (exit 3)
+  // with a diagnostic, and leaves no stiffness table behind. One active-set iteration cannot
+  // settle the contact of a tooth pair, whose initial guess (all cells active) is wrong.
+  const fs::path out = fresh_temp_dir("stiffness_no_convergence");
+  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse +
+                               " --set Stiffness/contact_max_iterations=1 --out " + out.string());
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("numerical failure"));
+  EXPECT_FALSE(fs::exists(out / "stiffness.csv"));
+  EXPECT_FALSE(fs::exists(out / "stiffness.json"));
+}
