@@ -446,7 +446,6 @@ namespace hertzgear
       HG_REQUIRE_INPUT(eq != std::string::npos && eq > 0,
                        "--set \"", text, "\": expected \"Section/Subsection/key=value\"");
       const std::string path  = text.substr(0, eq);
-      std::string       value = text.substr(eq + 1);
       const auto        slash = path.rfind('/');
       HG_REQUIRE_INPUT(slash != std::string::npos,
                        "--set \"", text, "\": the key must name its section, e.g. "
@@ -461,10 +460,7 @@ namespace hertzgear
       const EntryInfo  *entry   = schema.find(section, key);
       HG_REQUIRE_INPUT(entry != nullptr, "--set \"", text, "\": unknown key \"", key,
                        "\" in section \"", section, "\" (see `hertzgear defaults`)");
-      // trim blanks around the value
-      const auto b = value.find_first_not_of(" \t");
-      const auto e = value.find_last_not_of(" \t");
-      value        = (b == std::string::npos) ? "" : value.substr(b, e - b + 1);
+      const std::string value = trim(text.substr(eq + 1));
 
       std::vector<std::string> parts;
       std::stringstream        ss(section);

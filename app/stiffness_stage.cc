@@ -246,7 +246,7 @@ namespace hertzgear
     t.hertz_exponent = n;
     t.source         = "hertzgear stiffness (FE/half-space TCA)";
     t.k_hertz_N_per_m_pow_n = to_si(result.cycle.k_hertz, std::pow(1.0e3, n));
-    std::vector<double> k_rest;
+    std::vector<double> k_rest, unloaded;
     for (const auto &p : result.cycle.positions)
       {
         t.samples.mesh_phase.push_back(p.mesh_phase);
@@ -256,12 +256,10 @@ namespace hertzgear
         t.samples.ste_m.push_back(p.ste_mm * 1e-3);
         t.samples.unloaded_ste_m.push_back(p.unloaded_ste_mm * 1e-3);
         k_rest.push_back(p.k_rest_N_per_mm);
+        unloaded.push_back(p.unloaded_ste_mm);
       }
-    std::vector<double> phases = t.samples.mesh_phase;
-    t.k_rest_N_per_m = to_si(fit_fourier_series(phases, k_rest, cs.n_harmonics), 1e3);
-    std::vector<double> unloaded;
-    for (const auto &p : result.cycle.positions)
-      unloaded.push_back(p.unloaded_ste_mm);
+    const auto &phases = t.samples.mesh_phase;
+    t.k_rest_N_per_m   = to_si(fit_fourier_series(phases, k_rest, cs.n_harmonics), 1e3);
     t.unloaded_ste_m   = to_si(fit_fourier_series(phases, unloaded, cs.n_harmonics), 1e-3);
     t.has_unloaded_ste = true;
     t.check();

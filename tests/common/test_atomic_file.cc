@@ -3,6 +3,8 @@
 #include "common/atomic_file.h"
 #include "common/hash.h"
 
+#include "tests/support/run_command.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -13,27 +15,14 @@ using namespace hertzgear;
 
 namespace
 {
-  fs::path fresh_dir(const std::string &name)
-  {
-    const fs::path dir = fs::temp_directory_path() / ("hertzgear_test_" + name);
-    fs::remove_all(dir);
-    return dir;
-  }
-
-  std::string read(const fs::path &p)
-  {
-    std::ifstream     in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
+  const auto &fresh_dir = hertzgear::testing::fresh_temp_dir;
 } // namespace
 
 TEST(AtomicFile, WritesCompleteContentAndCreatesFolders)
 {
   const fs::path dir = fresh_dir("atomic_ok");
   write_file_atomically(dir / "sub" / "a.csv", "x,y\n1,2\n");
-  EXPECT_EQ(read(dir / "sub" / "a.csv"), "x,y\n1,2\n");
+  EXPECT_EQ(hertzgear::testing::slurp(dir / "sub" / "a.csv"), "x,y\n1,2\n");
   // No temporary left next to it.
   for (const auto &entry : fs::directory_iterator(dir / "sub"))
     EXPECT_FALSE(is_temporary_artifact(entry.path())) << entry.path();
@@ -49,7 +38,7 @@ TEST(AtomicFile, FailedWriterLeavesNoArtifactAndKeepsTheOldOne)
                                        throw std::runtime_error("interrupted");
                                      }),
                std::runtime_error);
-  EXPECT_EQ(read(dir / "a.json"), "{\"old\": true}\n");
+  EXPECT_EQ(hertzgear::testing::slurp(dir / "a.json"), "{\"old\": true}\n");
   int n_files = 0;
   for ([[maybe_unused]] const auto &entry : fs::directory_iterator(dir))
     ++n_files;
