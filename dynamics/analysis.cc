@@ -162,8 +162,14 @@ namespace hertzgear::dynamics
     double max_rate = 0.0;
     for (const auto &sample : s)
       max_rate = std::max(max_rate, std::abs(sample.dte_rate_m_per_s));
-    sum.period_multiplicity =
-      period_multiplicity(r.poincare, sum.max_dte_m - sum.min_dte_m, max_rate);
+    // Scales of the periodicity test: the peak-to-peak motion, but at least 1 % of the DTE level
+    // (and that over a mesh period for the rate). A motion that barely varies (constant stiffness)
+    // would otherwise give a tolerance below the integrator's own error, rtol |x|, and read as
+    // aperiodic.
+    const double level   = std::max(std::abs(sum.max_dte_m), std::abs(sum.min_dte_m));
+    const double x_scale = std::max(sum.max_dte_m - sum.min_dte_m, 1e-2 * level);
+    const double v_scale = std::max(max_rate, x_scale / r.mesh_period_s);
+    sum.period_multiplicity = period_multiplicity(r.poincare, x_scale, v_scale);
     const auto loops              = force_penetration_loops(r);
     sum.n_impacts                 = loops.size();
     for (const auto &l : loops)

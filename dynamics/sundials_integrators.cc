@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 namespace hertzgear::dynamics
 {
@@ -177,102 +178,32 @@ namespace hertzgear::dynamics
         }
       harvest();
     }
-
-    class CvodeBdf : public Integrator
+    void check_flag(const int flag, const char *what)
     {
-    public:
-      explicit CvodeBdf(const IntegratorSettings &s) : settings(s) { statistics.name = "cvode-bdf"; }
+      HG_REQUIRE_NUMERIC(flag >= 0, what, " failed with flag ", flag);
+    }
 
-      void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
-                     const double output_interval, const long n_outputs,
-                     const Observer &observer) override
-      {
-        const auto     start = std::chrono::steady_clock::now();
-        const unsigned n     = system.n_states();
-        Context        context;
-        Vector         y(n, context.ctx), atol(n, context.ctx);
-        std::copy(y0.begin(), y0.end(), y.data());
-        const auto a = system.absolute_tolerances(settings.absolute_tolerance);
-        std::copy(a.begin(), a.end(), atol.data());
-        CallbackData data{&system, {}};
-
-        void *mem = CVodeCreate(CV_BDF, context.ctx);
-        HG_REQUIRE_NUMERIC(mem != nullptr, "CVodeCreate failed");
-        struct Free
-        {
-          void *&m;
-          ~Free() { CVodeFree(&m); }
-        } free_mem{mem};
-        DenseSolver dense(n, y.v, context.ctx);
-        auto        check = [](const int flag, const char *what) {
-          HG_REQUIRE_NUMERIC(flag >= 0, what, " failed with flag ", flag);
-        };
-        check(CVodeInit(mem, rhs_callback, t0, y.v), "CVodeInit");
-        check(CVodeSetUserData(mem, &data), "CVodeSetUserData");
-        check(CVodeSetErrHandlerFn(mem, error_handler, &data), "CVodeSetErrHandlerFn");
-        check(CVodeSVtolerances(mem, settings.relative_tolerance, atol.v), "CVodeSVtolerances");
-        check(CVodeSetLinearSolver(mem, dense.LS, dense.A), "CVodeSetLinearSolver");
-        if (system.has_jacobian())
-          check(CVodeSetJacFn(mem, jacobian_callback), "CVodeSetJacFn");
-        check(CVodeSetMaxNumSteps(mem, settings.max_steps_per_output), "CVodeSetMaxNumSteps");
-        if (settings.max_order > 0)
-          check(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
-        check(CVodeSetStabLimDet(mem, settings.stability_limit_detection ? SUNTRUE : SUNFALSE),
-              "CVodeSetStabLimDet");
-        if (settings.max_step > 0.0)
-          check(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
-        if (system.n_roots() > 0)
-          check(CVodeRootInit(mem, system.n_roots(), root_callback), "CVodeRootInit");
-
-        auto harvest = [&]() {
-          long steps = 0, etf = 0, ncf = 0, nfe = 0, nfe_ls = 0, nje = 0, nge = 0;
-          CVodeGetNumSteps(mem, &steps);
-          CVodeGetNumErrTestFails(mem, &etf);
-          CVodeGetNumNonlinSolvConvFails(mem, &ncf);
-          CVodeGetNumRhsEvals(mem, &nfe);
-          CVodeGetNumLinRhsEvals(mem, &nfe_ls);
-          CVodeGetNumJacEvals(mem, &nje);
-          CVodeGetNumGEvals(mem, &nge);
-          statistics.steps += steps - last.steps;
-          statistics.rejected_steps += etf + ncf - last.rejected_steps;
-          statistics.rhs_evals += nfe + nfe_ls - last.rhs_evals;
-          statistics.jacobian_evals += nje - last.jacobian_evals;
-          statistics.root_evals += nge - last.root_evals;
-          last = {"", steps, etf + ncf, nfe + nfe_ls, nje, nge, 0, 0.0};
-        };
-        last = IntegratorStats{};
-        drive(
-          system, data, "cvode-bdf", t0, y.data(), output_interval, n_outputs, observer,
-          [&](const double tout, double &t, int *dirs) {
-            const int flag = CVode(mem, tout, y.v, &t, CV_NORMAL);
-            if (flag == CV_ROOT_RETURN)
-              CVodeGetRootInfo(mem, dirs);
-            return flag;
-          },
-          [](const int flag) { return flag == CV_ROOT_RETURN; },
-          [&](const double t) {
-            check(CVodeReInit(mem, t, y.v), "CVodeReInit");
-            last = IntegratorStats{};
-          },
-          harvest, statistics, [](int f) { return std::string(CVodeGetReturnFlagName(f)); });
-        std::copy(y.data(), y.data() + n, y0.begin());
-        statistics.wall_time_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      }
-
-    private:
-      IntegratorSettings settings;
-      IntegratorStats    last;
+    // Counters since the last (re)initialisation, as the SUNDIALS solver reports them.
+    struct Counters
+    {
+      long steps = 0, rejected = 0, rhs = 0, jacobians = 0, roots = 0;
     };
 
-    class ArkodeErk : public Integrator
+    // What the four SUNDIALS integrators share: state and tolerance vectors, the event loop of
+    // drive(), restarts, statistics accumulated across restarts, and freeing the solver memory
+    // also when the integration throws. A solver adds its creation and settings, one advance
+    // call, its re-initialisation, its counters and its flag names.
+    class SundialsIntegrator : public Integrator
     {
     public:
-      explicit ArkodeErk(const IntegratorSettings &s) : settings(s) { statistics.name = "arkode-erk"; }
+      SundialsIntegrator(const IntegratorSettings &s, const std::string &name) : settings(s)
+      {
+        statistics.name = name;
+      }
 
       void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
                      const double output_interval, const long n_outputs,
-                     const Observer &observer) override
+                     const Observer &observer) final
       {
         const auto     start = std::chrono::steady_clock::now();
         const unsigned n     = system.n_states();
@@ -282,238 +213,305 @@ namespace hertzgear::dynamics
         const auto a = system.absolute_tolerances(settings.absolute_tolerance);
         std::copy(a.begin(), a.end(), atol.data());
         CallbackData data{&system, {}};
-
-        void *mem = ERKStepCreate(rhs_callback, t0, y.v, context.ctx);
-        HG_REQUIRE_NUMERIC(mem != nullptr, "ERKStepCreate failed");
-        struct Free
+        struct Release // the solver memory goes before the context, also on a throw
         {
-          void *&m;
-          ~Free() { ERKStepFree(&m); }
-        } free_mem{mem};
-        auto check = [](const int flag, const char *what) {
-          HG_REQUIRE_NUMERIC(flag >= 0, what, " failed with flag ", flag);
-        };
-        // Dormand-Prince 5(4): the explicit pair most readers know (MATLAB ode45, SciPy RK45).
-        check(ERKStepSetTableNum(mem, ARKODE_DORMAND_PRINCE_7_4_5), "ERKStepSetTableNum");
-        check(ERKStepSetUserData(mem, &data), "ERKStepSetUserData");
-        check(ERKStepSetErrHandlerFn(mem, error_handler, &data), "ERKStepSetErrHandlerFn");
-        check(ERKStepSVtolerances(mem, settings.relative_tolerance, atol.v), "ERKStepSVtolerances");
-        check(ERKStepSetMaxNumSteps(mem, settings.max_steps_per_output), "ERKStepSetMaxNumSteps");
-        if (settings.max_step > 0.0)
-          check(ERKStepSetMaxStep(mem, settings.max_step), "ERKStepSetMaxStep");
-        if (system.n_roots() > 0)
-          check(ERKStepRootInit(mem, system.n_roots(), root_callback), "ERKStepRootInit");
+          SundialsIntegrator &self;
+          ~Release() { self.release(); }
+        } release_at_exit{*this};
+        create(system, context.ctx, t0, y.v, atol.v, data);
 
-        auto harvest = [&]() {
-          long steps = 0, etf = 0, nfe = 0, nge = 0;
-          ERKStepGetNumSteps(mem, &steps);
-          ERKStepGetNumErrTestFails(mem, &etf);
-          ERKStepGetNumRhsEvals(mem, &nfe);
-          ERKStepGetNumGEvals(mem, &nge);
-          statistics.steps += steps - last.steps;
-          statistics.rejected_steps += etf - last.rejected_steps;
-          statistics.rhs_evals += nfe - last.rhs_evals;
-          statistics.root_evals += nge - last.root_evals;
-          last = {"", steps, etf, nfe, 0, nge, 0, 0.0};
+        Counters last;
+        auto     harvest = [&]() {
+          const Counters c = counters();
+          statistics.steps += c.steps - last.steps;
+          statistics.rejected_steps += c.rejected - last.rejected;
+          statistics.rhs_evals += c.rhs - last.rhs;
+          statistics.jacobian_evals += c.jacobians - last.jacobians;
+          statistics.root_evals += c.roots - last.roots;
+          last = c;
         };
-        last = IntegratorStats{};
         drive(
-          system, data, "arkode-erk", t0, y.data(), output_interval, n_outputs, observer,
-          [&](const double tout, double &t, int *dirs) {
-            const int flag = ERKStepEvolve(mem, tout, y.v, &t, ARK_NORMAL);
-            if (flag == ARK_ROOT_RETURN)
-              ERKStepGetRootInfo(mem, dirs);
-            return flag;
-          },
-          [](const int flag) { return flag == ARK_ROOT_RETURN; },
+          system, data, statistics.name, t0, y.data(), output_interval, n_outputs, observer,
+          [&](const double tout, double &t, int *dirs) { return advance(tout, t, y.v, dirs); },
+          [&](const int flag) { return is_root(flag); },
           [&](const double t) {
-            check(ERKStepReInit(mem, rhs_callback, t, y.v), "ERKStepReInit");
-            last = IntegratorStats{};
+            reinit(system, t, y.v);
+            last = Counters{};
           },
-          harvest, statistics, [](int f) { return std::string(ERKStepGetReturnFlagName(f)); });
+          harvest, statistics, [&](const int flag) { return flag_name(flag); });
         std::copy(y.data(), y.data() + n, y0.begin());
         statistics.wall_time_s +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
 
+    protected:
+      // Create the solver memory for `system` from (t0, y) and apply the settings.
+      virtual void        create(OdeSystem &system, SUNContext ctx, double t0, N_Vector y,
+                                 N_Vector atol, CallbackData &data)          = 0;
+      // One call of the solve function towards tout; fills the root directions on a root return.
+      virtual int         advance(double tout, double &t, N_Vector y, int *directions) = 0;
+      virtual bool        is_root(int flag) const                             = 0;
+      // Restart at t from y after an event.
+      virtual void        reinit(OdeSystem &system, double t, N_Vector y)     = 0;
+      virtual Counters    counters() const                                    = 0;
+      virtual std::string flag_name(int flag) const                           = 0;
+      // Free the solver memory and everything created with the context.
+      virtual void        release()                                           = 0;
+
+      IntegratorSettings           settings;
+      void                        *mem = nullptr;
+      std::unique_ptr<DenseSolver> dense;
+    };
+
+    class CvodeBdf final : public SundialsIntegrator
+    {
+    public:
+      explicit CvodeBdf(const IntegratorSettings &s) : SundialsIntegrator(s, "cvode-bdf") {}
+
     private:
-      IntegratorSettings settings;
-      IntegratorStats    last;
+      void create(OdeSystem &system, SUNContext ctx, const double t0, N_Vector y, N_Vector atol,
+                  CallbackData &data) override
+      {
+        mem = CVodeCreate(CV_BDF, ctx);
+        HG_REQUIRE_NUMERIC(mem != nullptr, "CVodeCreate failed");
+        dense = std::make_unique<DenseSolver>(system.n_states(), y, ctx);
+        check_flag(CVodeInit(mem, rhs_callback, t0, y), "CVodeInit");
+        check_flag(CVodeSetUserData(mem, &data), "CVodeSetUserData");
+        check_flag(CVodeSetErrHandlerFn(mem, error_handler, &data), "CVodeSetErrHandlerFn");
+        check_flag(CVodeSVtolerances(mem, settings.relative_tolerance, atol), "CVodeSVtolerances");
+        check_flag(CVodeSetLinearSolver(mem, dense->LS, dense->A), "CVodeSetLinearSolver");
+        if (system.has_jacobian())
+          check_flag(CVodeSetJacFn(mem, jacobian_callback), "CVodeSetJacFn");
+        check_flag(CVodeSetMaxNumSteps(mem, settings.max_steps_per_output), "CVodeSetMaxNumSteps");
+        if (settings.max_order > 0)
+          check_flag(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
+        check_flag(CVodeSetStabLimDet(mem, settings.stability_limit_detection ? SUNTRUE : SUNFALSE),
+                   "CVodeSetStabLimDet");
+        if (settings.max_step > 0.0)
+          check_flag(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
+        if (system.n_roots() > 0)
+          check_flag(CVodeRootInit(mem, system.n_roots(), root_callback), "CVodeRootInit");
+      }
+      int advance(const double tout, double &t, N_Vector y, int *directions) override
+      {
+        const int flag = CVode(mem, tout, y, &t, CV_NORMAL);
+        if (flag == CV_ROOT_RETURN)
+          CVodeGetRootInfo(mem, directions);
+        return flag;
+      }
+      bool is_root(const int flag) const override { return flag == CV_ROOT_RETURN; }
+      void reinit(OdeSystem &, const double t, N_Vector y) override
+      {
+        check_flag(CVodeReInit(mem, t, y), "CVodeReInit");
+      }
+      Counters counters() const override
+      {
+        long steps = 0, etf = 0, ncf = 0, nfe = 0, nfe_ls = 0, nje = 0, nge = 0;
+        CVodeGetNumSteps(mem, &steps);
+        CVodeGetNumErrTestFails(mem, &etf);
+        CVodeGetNumNonlinSolvConvFails(mem, &ncf);
+        CVodeGetNumRhsEvals(mem, &nfe);
+        CVodeGetNumLinRhsEvals(mem, &nfe_ls);
+        CVodeGetNumJacEvals(mem, &nje);
+        CVodeGetNumGEvals(mem, &nge);
+        return {steps, etf + ncf, nfe + nfe_ls, nje, nge};
+      }
+      std::string flag_name(const int flag) const override { return CVodeGetReturnFlagName(flag); }
+      void        release() override
+      {
+        if (mem)
+          CVodeFree(&mem);
+        dense.reset();
+      }
+    };
+
+    class ArkodeErk final : public SundialsIntegrator
+    {
+    public:
+      explicit ArkodeErk(const IntegratorSettings &s) : SundialsIntegrator(s, "arkode-erk") {}
+
+    private:
+      void create(OdeSystem &system, SUNContext ctx, const double t0, N_Vector y, N_Vector atol,
+                  CallbackData &data) override
+      {
+        mem = ERKStepCreate(rhs_callback, t0, y, ctx);
+        HG_REQUIRE_NUMERIC(mem != nullptr, "ERKStepCreate failed");
+        // Dormand-Prince 5(4): the explicit pair most readers know (MATLAB ode45, SciPy RK45).
+        check_flag(ERKStepSetTableNum(mem, ARKODE_DORMAND_PRINCE_7_4_5), "ERKStepSetTableNum");
+        check_flag(ERKStepSetUserData(mem, &data), "ERKStepSetUserData");
+        check_flag(ERKStepSetErrHandlerFn(mem, error_handler, &data), "ERKStepSetErrHandlerFn");
+        check_flag(ERKStepSVtolerances(mem, settings.relative_tolerance, atol),
+                   "ERKStepSVtolerances");
+        check_flag(ERKStepSetMaxNumSteps(mem, settings.max_steps_per_output),
+                   "ERKStepSetMaxNumSteps");
+        if (settings.max_step > 0.0)
+          check_flag(ERKStepSetMaxStep(mem, settings.max_step), "ERKStepSetMaxStep");
+        if (system.n_roots() > 0)
+          check_flag(ERKStepRootInit(mem, system.n_roots(), root_callback), "ERKStepRootInit");
+      }
+      int advance(const double tout, double &t, N_Vector y, int *directions) override
+      {
+        const int flag = ERKStepEvolve(mem, tout, y, &t, ARK_NORMAL);
+        if (flag == ARK_ROOT_RETURN)
+          ERKStepGetRootInfo(mem, directions);
+        return flag;
+      }
+      bool is_root(const int flag) const override { return flag == ARK_ROOT_RETURN; }
+      void reinit(OdeSystem &, const double t, N_Vector y) override
+      {
+        check_flag(ERKStepReInit(mem, rhs_callback, t, y), "ERKStepReInit");
+      }
+      Counters counters() const override
+      {
+        long steps = 0, etf = 0, nfe = 0, nge = 0;
+        ERKStepGetNumSteps(mem, &steps);
+        ERKStepGetNumErrTestFails(mem, &etf);
+        ERKStepGetNumRhsEvals(mem, &nfe);
+        ERKStepGetNumGEvals(mem, &nge);
+        return {steps, etf, nfe, 0, nge};
+      }
+      std::string flag_name(const int flag) const override { return ERKStepGetReturnFlagName(flag); }
+      void        release() override
+      {
+        if (mem)
+          ERKStepFree(&mem);
+      }
     };
 
     // Diagonally implicit RK (ARKODE ARKStep, implicit part only) with a dense Jacobian. Its
     // L-stable SDIRK/ESDIRK tables damp the lightly damped mesh mode instead of resolving it, which
     // BDF of order 3 to 5 cannot do near the imaginary axis.
-    class ArkodeDirk : public Integrator
+    class ArkodeDirk final : public SundialsIntegrator
     {
     public:
-      explicit ArkodeDirk(const IntegratorSettings &s) : settings(s) { statistics.name = "arkode-dirk"; }
-
-      void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
-                     const double output_interval, const long n_outputs,
-                     const Observer &observer) override
-      {
-        const auto     start = std::chrono::steady_clock::now();
-        const unsigned n     = system.n_states();
-        Context        context;
-        Vector         y(n, context.ctx), atol(n, context.ctx);
-        std::copy(y0.begin(), y0.end(), y.data());
-        const auto a = system.absolute_tolerances(settings.absolute_tolerance);
-        std::copy(a.begin(), a.end(), atol.data());
-        CallbackData data{&system, {}};
-
-        void *mem = ARKStepCreate(nullptr, rhs_callback, t0, y.v, context.ctx);
-        HG_REQUIRE_NUMERIC(mem != nullptr, "ARKStepCreate failed");
-        struct Free
-        {
-          void *&m;
-          ~Free() { ARKStepFree(&m); }
-        } free_mem{mem};
-        DenseSolver dense(n, y.v, context.ctx);
-        auto        check = [](const int flag, const char *what) {
-          HG_REQUIRE_NUMERIC(flag >= 0, what, " failed with flag ", flag);
-        };
-        check(ARKStepSetUserData(mem, &data), "ARKStepSetUserData");
-        check(ARKStepSetErrHandlerFn(mem, error_handler, &data), "ARKStepSetErrHandlerFn");
-        check(ARKStepSVtolerances(mem, settings.relative_tolerance, atol.v), "ARKStepSVtolerances");
-        check(ARKStepSetLinearSolver(mem, dense.LS, dense.A), "ARKStepSetLinearSolver");
-        if (system.has_jacobian())
-          check(ARKStepSetJacFn(mem, jacobian_callback), "ARKStepSetJacFn");
-        check(ARKStepSetOrder(mem, settings.max_order > 0 ? settings.max_order : 4), "ARKStepSetOrder");
-        check(ARKStepSetMaxNumSteps(mem, settings.max_steps_per_output), "ARKStepSetMaxNumSteps");
-        if (settings.max_step > 0.0)
-          check(ARKStepSetMaxStep(mem, settings.max_step), "ARKStepSetMaxStep");
-        if (system.n_roots() > 0)
-          check(ARKStepRootInit(mem, system.n_roots(), root_callback), "ARKStepRootInit");
-
-        auto harvest = [&]() {
-          long steps = 0, etf = 0, ncf = 0, nfe = 0, nfi = 0, nfi_ls = 0, nje = 0, nge = 0;
-          ARKStepGetNumSteps(mem, &steps);
-          ARKStepGetNumErrTestFails(mem, &etf);
-          ARKStepGetNumNonlinSolvConvFails(mem, &ncf);
-          ARKStepGetNumRhsEvals(mem, &nfe, &nfi);
-          ARKStepGetNumLinRhsEvals(mem, &nfi_ls);
-          ARKStepGetNumJacEvals(mem, &nje);
-          ARKStepGetNumGEvals(mem, &nge);
-          statistics.steps += steps - last.steps;
-          statistics.rejected_steps += etf + ncf - last.rejected_steps;
-          statistics.rhs_evals += nfi + nfi_ls - last.rhs_evals;
-          statistics.jacobian_evals += nje - last.jacobian_evals;
-          statistics.root_evals += nge - last.root_evals;
-          last = {"", steps, etf + ncf, nfi + nfi_ls, nje, nge, 0, 0.0};
-        };
-        last = IntegratorStats{};
-        drive(
-          system, data, "arkode-dirk", t0, y.data(), output_interval, n_outputs, observer,
-          [&](const double tout, double &t, int *dirs) {
-            const int flag = ARKStepEvolve(mem, tout, y.v, &t, ARK_NORMAL);
-            if (flag == ARK_ROOT_RETURN)
-              ARKStepGetRootInfo(mem, dirs);
-            return flag;
-          },
-          [](const int flag) { return flag == ARK_ROOT_RETURN; },
-          [&](const double t) {
-            check(ARKStepReInit(mem, nullptr, rhs_callback, t, y.v), "ARKStepReInit");
-            last = IntegratorStats{};
-          },
-          harvest, statistics, [](int f) { return std::string(ARKStepGetReturnFlagName(f)); });
-        std::copy(y.data(), y.data() + n, y0.begin());
-        statistics.wall_time_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      }
+      explicit ArkodeDirk(const IntegratorSettings &s) : SundialsIntegrator(s, "arkode-dirk") {}
 
     private:
-      IntegratorSettings settings;
-      IntegratorStats    last;
+      void create(OdeSystem &system, SUNContext ctx, const double t0, N_Vector y, N_Vector atol,
+                  CallbackData &data) override
+      {
+        mem = ARKStepCreate(nullptr, rhs_callback, t0, y, ctx);
+        HG_REQUIRE_NUMERIC(mem != nullptr, "ARKStepCreate failed");
+        dense = std::make_unique<DenseSolver>(system.n_states(), y, ctx);
+        check_flag(ARKStepSetUserData(mem, &data), "ARKStepSetUserData");
+        check_flag(ARKStepSetErrHandlerFn(mem, error_handler, &data), "ARKStepSetErrHandlerFn");
+        check_flag(ARKStepSVtolerances(mem, settings.relative_tolerance, atol),
+                   "ARKStepSVtolerances");
+        check_flag(ARKStepSetLinearSolver(mem, dense->LS, dense->A), "ARKStepSetLinearSolver");
+        if (system.has_jacobian())
+          check_flag(ARKStepSetJacFn(mem, jacobian_callback), "ARKStepSetJacFn");
+        check_flag(ARKStepSetOrder(mem, settings.max_order > 0 ? settings.max_order : 4),
+                   "ARKStepSetOrder");
+        check_flag(ARKStepSetMaxNumSteps(mem, settings.max_steps_per_output),
+                   "ARKStepSetMaxNumSteps");
+        if (settings.max_step > 0.0)
+          check_flag(ARKStepSetMaxStep(mem, settings.max_step), "ARKStepSetMaxStep");
+        if (system.n_roots() > 0)
+          check_flag(ARKStepRootInit(mem, system.n_roots(), root_callback), "ARKStepRootInit");
+      }
+      int advance(const double tout, double &t, N_Vector y, int *directions) override
+      {
+        const int flag = ARKStepEvolve(mem, tout, y, &t, ARK_NORMAL);
+        if (flag == ARK_ROOT_RETURN)
+          ARKStepGetRootInfo(mem, directions);
+        return flag;
+      }
+      bool is_root(const int flag) const override { return flag == ARK_ROOT_RETURN; }
+      void reinit(OdeSystem &, const double t, N_Vector y) override
+      {
+        check_flag(ARKStepReInit(mem, nullptr, rhs_callback, t, y), "ARKStepReInit");
+      }
+      Counters counters() const override
+      {
+        long steps = 0, etf = 0, ncf = 0, nfe = 0, nfi = 0, nfi_ls = 0, nje = 0, nge = 0;
+        ARKStepGetNumSteps(mem, &steps);
+        ARKStepGetNumErrTestFails(mem, &etf);
+        ARKStepGetNumNonlinSolvConvFails(mem, &ncf);
+        ARKStepGetNumRhsEvals(mem, &nfe, &nfi);
+        ARKStepGetNumLinRhsEvals(mem, &nfi_ls);
+        ARKStepGetNumJacEvals(mem, &nje);
+        ARKStepGetNumGEvals(mem, &nge);
+        return {steps, etf + ncf, nfi + nfi_ls, nje, nge};
+      }
+      std::string flag_name(const int flag) const override { return ARKStepGetReturnFlagName(flag); }
+      void        release() override
+      {
+        if (mem)
+          ARKStepFree(&mem);
+        dense.reset();
+      }
     };
 
-    class Ida : public Integrator
+    // IDA on the residual form F(t, y, y') = 0: the DAE when c = 0 (the penetration equation is
+    // then algebraic), and the same model as a residual otherwise.
+    class Ida final : public SundialsIntegrator
     {
     public:
-      explicit Ida(const IntegratorSettings &s) : settings(s) { statistics.name = "ida"; }
-
-      void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
-                     const double output_interval, const long n_outputs,
-                     const Observer &observer) override
-      {
-        const auto     start = std::chrono::steady_clock::now();
-        const unsigned n     = system.n_states();
-        Context        context;
-        Vector         y(n, context.ctx), yp(n, context.ctx), atol(n, context.ctx),
-          id(n, context.ctx);
-        std::copy(y0.begin(), y0.end(), y.data());
-        system.consistent_initial_derivative(t0, y.data(), yp.data());
-        const auto a = system.absolute_tolerances(settings.absolute_tolerance);
-        std::copy(a.begin(), a.end(), atol.data());
-        const auto ids = system.differential_components();
-        std::copy(ids.begin(), ids.end(), id.data());
-        CallbackData data{&system, {}};
-
-        void *mem = IDACreate(context.ctx);
-        HG_REQUIRE_NUMERIC(mem != nullptr, "IDACreate failed");
-        struct Free
-        {
-          void *&m;
-          ~Free() { IDAFree(&m); }
-        } free_mem{mem};
-        DenseSolver dense(n, y.v, context.ctx);
-        auto        check = [](const int flag, const char *what) {
-          HG_REQUIRE_NUMERIC(flag >= 0, what, " failed with flag ", flag);
-        };
-        check(IDAInit(mem, residual_callback, t0, y.v, yp.v), "IDAInit");
-        check(IDASetUserData(mem, &data), "IDASetUserData");
-        check(IDASetErrHandlerFn(mem, error_handler, &data), "IDASetErrHandlerFn");
-        check(IDASVtolerances(mem, settings.relative_tolerance, atol.v), "IDASVtolerances");
-        check(IDASetLinearSolver(mem, dense.LS, dense.A), "IDASetLinearSolver");
-        check(IDASetId(mem, id.v), "IDASetId");
-        check(IDASetMaxNumSteps(mem, settings.max_steps_per_output), "IDASetMaxNumSteps");
-        if (settings.max_order > 0)
-          check(IDASetMaxOrd(mem, settings.max_order), "IDASetMaxOrd");
-        if (settings.max_step > 0.0)
-          check(IDASetMaxStep(mem, settings.max_step), "IDASetMaxStep");
-        if (system.n_roots() > 0)
-          check(IDARootInit(mem, system.n_roots(), ida_root_callback), "IDARootInit");
-
-        auto harvest = [&]() {
-          long steps = 0, etf = 0, ncf = 0, nre = 0, nre_ls = 0, nje = 0, nge = 0;
-          IDAGetNumSteps(mem, &steps);
-          IDAGetNumErrTestFails(mem, &etf);
-          IDAGetNumNonlinSolvConvFails(mem, &ncf);
-          IDAGetNumResEvals(mem, &nre);
-          IDAGetNumLinResEvals(mem, &nre_ls);
-          IDAGetNumJacEvals(mem, &nje);
-          IDAGetNumGEvals(mem, &nge);
-          statistics.steps += steps - last.steps;
-          statistics.rejected_steps += etf + ncf - last.rejected_steps;
-          statistics.rhs_evals += nre + nre_ls - last.rhs_evals;
-          statistics.jacobian_evals += nje - last.jacobian_evals;
-          statistics.root_evals += nge - last.root_evals;
-          last = {"", steps, etf + ncf, nre + nre_ls, nje, nge, 0, 0.0};
-        };
-        last = IntegratorStats{};
-        drive(
-          system, data, "ida", t0, y.data(), output_interval, n_outputs, observer,
-          [&](const double tout, double &t, int *dirs) {
-            const int flag = IDASolve(mem, tout, &t, y.v, yp.v, IDA_NORMAL);
-            if (flag == IDA_ROOT_RETURN)
-              IDAGetRootInfo(mem, dirs);
-            return flag;
-          },
-          [](const int flag) { return flag == IDA_ROOT_RETURN; },
-          [&](const double t) {
-            system.consistent_initial_derivative(t, y.data(), yp.data());
-            check(IDAReInit(mem, t, y.v, yp.v), "IDAReInit");
-            last = IntegratorStats{};
-          },
-          harvest, statistics, [](int f) { return std::string(IDAGetReturnFlagName(f)); });
-        std::copy(y.data(), y.data() + n, y0.begin());
-        statistics.wall_time_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      }
+      explicit Ida(const IntegratorSettings &s) : SundialsIntegrator(s, "ida") {}
 
     private:
-      IntegratorSettings settings;
-      IntegratorStats    last;
+      void create(OdeSystem &system, SUNContext ctx, const double t0, N_Vector y, N_Vector atol,
+                  CallbackData &data) override
+      {
+        const unsigned n = system.n_states();
+        yp = std::make_unique<Vector>(n, ctx);
+        Vector id(n, ctx);
+        system.consistent_initial_derivative(t0, N_VGetArrayPointer(y), yp->data());
+        const auto ids = system.differential_components();
+        std::copy(ids.begin(), ids.end(), id.data());
+
+        mem = IDACreate(ctx);
+        HG_REQUIRE_NUMERIC(mem != nullptr, "IDACreate failed");
+        dense = std::make_unique<DenseSolver>(n, y, ctx);
+        check_flag(IDAInit(mem, residual_callback, t0, y, yp->v), "IDAInit");
+        check_flag(IDASetUserData(mem, &data), "IDASetUserData");
+        check_flag(IDASetErrHandlerFn(mem, error_handler, &data), "IDASetErrHandlerFn");
+        check_flag(IDASVtolerances(mem, settings.relative_tolerance, atol), "IDASVtolerances");
+        check_flag(IDASetLinearSolver(mem, dense->LS, dense->A), "IDASetLinearSolver");
+        check_flag(IDASetId(mem, id.v), "IDASetId");
+        check_flag(IDASetMaxNumSteps(mem, settings.max_steps_per_output), "IDASetMaxNumSteps");
+        if (settings.max_order > 0)
+          check_flag(IDASetMaxOrd(mem, settings.max_order), "IDASetMaxOrd");
+        if (settings.max_step > 0.0)
+          check_flag(IDASetMaxStep(mem, settings.max_step), "IDASetMaxStep");
+        if (system.n_roots() > 0)
+          check_flag(IDARootInit(mem, system.n_roots(), ida_root_callback), "IDARootInit");
+      }
+      int advance(const double tout, double &t, N_Vector y, int *directions) override
+      {
+        const int flag = IDASolve(mem, tout, &t, y, yp->v, IDA_NORMAL);
+        if (flag == IDA_ROOT_RETURN)
+          IDAGetRootInfo(mem, directions);
+        return flag;
+      }
+      bool is_root(const int flag) const override { return flag == IDA_ROOT_RETURN; }
+      void reinit(OdeSystem &system, const double t, N_Vector y) override
+      {
+        system.consistent_initial_derivative(t, N_VGetArrayPointer(y), yp->data());
+        check_flag(IDAReInit(mem, t, y, yp->v), "IDAReInit");
+      }
+      Counters counters() const override
+      {
+        long steps = 0, etf = 0, ncf = 0, nre = 0, nre_ls = 0, nje = 0, nge = 0;
+        IDAGetNumSteps(mem, &steps);
+        IDAGetNumErrTestFails(mem, &etf);
+        IDAGetNumNonlinSolvConvFails(mem, &ncf);
+        IDAGetNumResEvals(mem, &nre);
+        IDAGetNumLinResEvals(mem, &nre_ls);
+        IDAGetNumJacEvals(mem, &nje);
+        IDAGetNumGEvals(mem, &nge);
+        return {steps, etf + ncf, nre + nre_ls, nje, nge};
+      }
+      std::string flag_name(const int flag) const override { return IDAGetReturnFlagName(flag); }
+      void        release() override
+      {
+        if (mem)
+          IDAFree(&mem);
+        dense.reset();
+        yp.reset();
+      }
+
+      std::unique_ptr<Vector> yp; // y'
     };
   } // namespace
 

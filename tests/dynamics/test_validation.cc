@@ -91,6 +91,21 @@ TEST(Validation, MeanMeshForceEqualsStaticForce)
   }
 }
 
+// Requirement: period detection reads a steady motion that barely varies as period 1, not as
+// aperiodic. With constant stiffness the steady DTE is constant up to the integrator's error
+// (rtol |x|); the test must not compare Poincare points at a tolerance below that error.
+TEST(Validation, NearlyConstantSteadyMotionIsPeriodOne)
+{
+  GearPairParameters p                   = paper_crowned();
+  p.effects.mesh_stiffness_variation     = false;
+  GearPairModel model(p);
+  const auto    r = simulate(model, run_settings(IntegratorKind::cvode_bdf, 1e-8, 1e-13, 40, 20),
+                          model.static_equilibrium_state());
+  const auto s = analyse(model, r);
+  EXPECT_LT(s.max_dte_m - s.min_dte_m, 1e-6 * s.max_dte_m) << "the motion should be constant";
+  EXPECT_EQ(s.period_multiplicity, 1);
+}
+
 // Requirement (c): a single impact on the Hunt-Crossley layer F = k_h delta^n (1 + 3/2 alpha
 // delta') returns the coefficient of restitution that law predicts. Integrating
 // m v dv = -k_h delta^n (1 + chi v) d(delta), chi = 3/2 alpha, over the impact (delta from 0 back to
