@@ -2,6 +2,7 @@
 //
 //   hertzgear dynamics data/scenes/paper_crowned_fourier.prm --out runs/crowned
 //   hertzgear sweep data/scenes/paper_crowned_fourier.prm --out runs/sweep --threads 2
+//   mpirun -np 2 hertzgear sweep data/scenes/paper_crowned_fourier.prm --out runs/sweep
 //
 // dynamics writes timeseries.csv, poincare.csv, spectrum.csv, force_penetration.csv and
 // summary.json; sweep writes sweep.csv and bifurcation.csv. Both add used_parameters.prm and
@@ -12,6 +13,8 @@
 #include "app/run_directory.h"
 #include "common/errors.h"
 #include "common/progress.h"
+
+#include <deal.II/base/mpi.h>
 
 #include <algorithm>
 #include <atomic>
@@ -136,6 +139,56 @@ namespace hertzgear
       dir.write_json("summary.json", summary);
     }
 
+  } // namespace
+
+  nlohmann::json run_dynamics_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer)
+  {
+    DynamicsSetup setup;
+    {
+      PhaseTimer::Scope scope(timer, "setup");
+      setup = make_dynamics_setup(scene);
+    }
+    GearPairModel model(setup.parameters);
+    progress_line("dynamics",
+                  msg("state dimension ", model.n_states(), ", ", model.parameters().effects.describe(),
+                      ", m_e = ", setup.parameters.equivalent_mass_kg, " kg, F0 = ",
+                      setup.parameters.static_force_N, " N, c = ",
+                      setup.parameters.damping_N_s_per_m, " N s/m, integrator ",
+                      scene.dynamics.integrator));
+    SimulationResult result;
+    {
+      PhaseTimer::Scope scope(timer, "integrate");
+      const auto        start = std::chrono::steady_clock::now();
+      result = simulate(model, setup.run, initial_state(scene, model), [&](int done, int total) {
+        progress_line("dynamics",
+                      msg("period ", done, "/", total, "  (",
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                            .count(),
+                          " s)"));
+      });
+    }
+    nlohmann::json summary;
+    {
+      PhaseTimer::Scope scope(timer, "analysis");
+      summary = summary_json(setup, model, result, analyse(model, result));
+    }
+    progress_line("dynamics",
+                  msg("rms DTE ", summary["rms_dte_um"].get<double>(), " um, mean force ",
+                      summary["mean_mesh_force_N"].get<double>(), " N (F0 ",
+                      summary["static_force_N"].get<double>(), " N), period ",
+                      summary["period_multiplicity"].get<int>(), ", steps ",
+                      result.stats.steps, ", rhs evals ", result.stats.rhs_evals, ", events ",
+                      result.stats.events));
+    if (dir)
+      {
+        PhaseTimer::Scope scope(timer, "write");
+        write_dynamics_artifacts(*dir, scene, result, summary);
+      }
+    return summary;
+  }
+
+  namespace
+  {
     int run_dynamics(const CommandContext &ctx)
     {
       PhaseTimer timer;
@@ -144,53 +197,17 @@ namespace hertzgear
         PhaseTimer::Scope scope(timer, "scene");
         scene = load_scene(ctx.scene_file, ctx.overrides);
       }
-      DynamicsSetup setup;
-      {
-        PhaseTimer::Scope scope(timer, "setup");
-        setup = make_dynamics_setup(scene);
-      }
-      GearPairModel model(setup.parameters);
-      progress_line("dynamics",
-                    msg("state dimension ", model.n_states(), ", ", model.parameters().effects.describe(),
-                        ", m_e = ", setup.parameters.equivalent_mass_kg, " kg, F0 = ",
-                        setup.parameters.static_force_N, " N, c = ",
-                        setup.parameters.damping_N_s_per_m, " N s/m, integrator ",
-                        scene.dynamics.integrator));
-      SimulationResult result;
-      {
-        PhaseTimer::Scope scope(timer, "integrate");
-        const auto        start = std::chrono::steady_clock::now();
-        result = simulate(model, setup.run, initial_state(scene, model), [&](int done, int total) {
-          progress_line("dynamics",
-                        msg("period ", done, "/", total, "  (",
-                            std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-                              .count(),
-                            " s)"));
-        });
-      }
-      nlohmann::json summary;
-      {
-        PhaseTimer::Scope scope(timer, "analysis");
-        summary = summary_json(setup, model, result, analyse(model, result));
-      }
-      progress_line("dynamics",
-                    msg("rms DTE ", summary["rms_dte_um"].get<double>(), " um, mean force ",
-                        summary["mean_mesh_force_N"].get<double>(), " N (F0 ",
-                        summary["static_force_N"].get<double>(), " N), period ",
-                        summary["period_multiplicity"].get<int>(), ", steps ",
-                        result.stats.steps, ", rhs evals ", result.stats.rhs_evals, ", events ",
-                        result.stats.events));
       if (ctx.out_dir.empty())
-        std::cout << summary.dump(2) << std::endl;
+        {
+          std::cout << run_dynamics_stage(scene, nullptr, timer).dump(2) << std::endl;
+          timer.print_summary(progress_stream());
+        }
       else
         {
-          PhaseTimer::Scope scope(timer, "write");
-          RunDirectory      dir(ctx.out_dir, scene, ctx.command_line);
-          write_dynamics_artifacts(dir, scene, result, summary);
+          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
+          run_dynamics_stage(scene, &dir, timer);
           dir.finish(timer, {{"stage", "dynamics"}}); // prints the timing summary
         }
-      if (ctx.out_dir.empty())
-        timer.print_summary(progress_stream());
       return 0;
     }
 
@@ -202,14 +219,93 @@ namespace hertzgear
       std::vector<double> poincare_dte_m;
     };
 
-    int run_sweep(const CommandContext &ctx, const int n_threads_requested)
+    // Under mpirun: every rank sends the rows of its jobs (and its failure, if any) to all ranks,
+    // so that each rank ends with the whole table, or all of them with the same error.
+    void gather_sweep_rows(const MPI_Comm comm, std::exception_ptr &failure,
+                           std::vector<std::vector<SweepRow>> &rows, IntegratorStats &stats)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
+      nlohmann::json mine = {{"rows", nlohmann::json::array()}};
+      for (std::size_t j = 0; j < rows.size(); ++j)
+        for (const auto &r : rows[j])
+          mine["rows"].push_back({{"job", j},
+                                  {"speed_rpm", r.speed_rpm},
+                                  {"direction", r.direction},
+                                  {"rms", r.summary.rms_dte_m},
+                                  {"min", r.summary.min_dte_m},
+                                  {"max", r.summary.max_dte_m},
+                                  {"dynamic_factor", r.summary.dynamic_factor},
+                                  {"contact_loss_fraction", r.summary.contact_loss_fraction},
+                                  {"period", r.summary.period_multiplicity},
+                                  {"poincare", r.poincare_dte_m}});
+      mine["stats"] = integrator_json(stats);
+      if (failure)
+        {
+          try
+            {
+              std::rethrow_exception(failure);
+            }
+          catch (const InputError &e)
+            {
+              mine["error"] = {{"code", 2}, {"what", e.what()}};
+            }
+          catch (const NumericalError &e)
+            {
+              mine["error"] = {{"code", 3}, {"what", e.what()}};
+            }
+          catch (const std::exception &e)
+            {
+              mine["error"] = {{"code", 1}, {"what", e.what()}};
+            }
+        }
+      const auto all = dealii::Utilities::MPI::all_gather(comm, mine.dump());
+      for (auto &job_rows : rows)
+        job_rows.clear();
+      stats = IntegratorStats{};
+      for (std::size_t r = 0; r < all.size(); ++r)
+        {
+          const auto part = nlohmann::json::parse(all[r]);
+          if (part.contains("error") && !failure)
+            {
+              const std::string what = msg("sweep rank ", r, ": ", part["error"]["what"].get<std::string>());
+              const int         code = part["error"]["code"].get<int>();
+              failure = code == 2 ? std::make_exception_ptr(InputError(what)) :
+                        code == 3 ? std::make_exception_ptr(NumericalError(what)) :
+                                    std::make_exception_ptr(std::runtime_error(what));
+            }
+          for (const auto &row : part["rows"])
+            {
+              SweepRow x;
+              x.speed_rpm                           = row["speed_rpm"];
+              x.direction                           = row["direction"];
+              x.summary.rms_dte_m                   = row["rms"];
+              x.summary.min_dte_m                   = row["min"];
+              x.summary.max_dte_m                   = row["max"];
+              x.summary.dynamic_factor              = row["dynamic_factor"];
+              x.summary.contact_loss_fraction       = row["contact_loss_fraction"];
+              x.summary.period_multiplicity         = row["period"];
+              x.poincare_dte_m                      = row["poincare"].get<std::vector<double>>();
+              rows[row["job"].get<std::size_t>()].push_back(x);
+            }
+          const auto &st = part["stats"];
+          IntegratorStats s;
+          s.name           = st["name"];
+          s.steps          = st["steps"];
+          s.rejected_steps = st["rejected_steps"];
+          s.rhs_evals      = st["rhs_evals"];
+          s.jacobian_evals = st["jacobian_evals"];
+          s.root_evals     = st["root_evals"];
+          s.events         = st["events"];
+          s.wall_time_s    = st["wall_time_s"];
+          stats += s;
+          if (stats.name.empty())
+            stats.name = s.name;
+        }
+    }
+  } // namespace
+
+  SweepStageOutput run_sweep_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer,
+                                   const int n_threads_requested)
+  {
       const auto &w = scene.sweep;
       HG_REQUIRE_INPUT(w.speed_max_rpm > w.speed_min_rpm, "Sweep/speed_max_rpm (", w.speed_max_rpm,
                        ") must exceed Sweep/speed_min_rpm (", w.speed_min_rpm, ")");
@@ -223,7 +319,8 @@ namespace hertzgear
         speeds[i] = w.speed_min_rpm + (w.speed_max_rpm - w.speed_min_rpm) * i / (w.points - 1);
 
       // Jobs: a continuation chain (up or down) is one sequential job; every independent point
-      // is its own job. Jobs run on threads.
+      // is its own job. Under mpirun job j runs on rank j mod (number of ranks); on each rank the
+      // jobs run on threads. Rank 0 gathers the rows and writes the tables.
       struct Job
       {
         std::string      direction;
@@ -247,8 +344,17 @@ namespace hertzgear
         for (int i = 0; i < w.points; ++i)
           jobs.push_back({"independent", {i}});
 
-      const int n_points = std::accumulate(jobs.begin(), jobs.end(), 0,
-                                           [](int a, const Job &j) { return a + int(j.points.size()); });
+      const MPI_Comm     comm    = MPI_COMM_WORLD;
+      const unsigned int rank    = dealii::Utilities::MPI::this_mpi_process(comm);
+      const unsigned int n_ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+      std::vector<std::size_t> my_jobs;
+      int                      n_points = 0;
+      for (std::size_t j = 0; j < jobs.size(); ++j)
+        if (j % n_ranks == rank)
+          {
+            my_jobs.push_back(j);
+            n_points += int(jobs[j].points.size());
+          }
       std::vector<std::vector<SweepRow>> rows(jobs.size());
       std::atomic<std::size_t>           next_job{0};
       std::atomic<int>                   done{0};
@@ -258,8 +364,9 @@ namespace hertzgear
       const auto                         start = std::chrono::steady_clock::now();
 
       auto worker = [&]() {
-        for (std::size_t j = next_job++; j < jobs.size(); j = next_job++)
+        for (std::size_t k = next_job++; k < my_jobs.size(); k = next_job++)
           {
+            const std::size_t j = my_jobs[k];
             try
               {
                 std::vector<double> y;
@@ -279,7 +386,8 @@ namespace hertzgear
                     std::lock_guard<std::mutex> lock(mutex);
                     total_stats += r.stats;
                     progress_line("sweep",
-                                  msg(jobs[j].direction, " point ", ++done, "/", n_points, "  ",
+                                  msg(n_ranks > 1 ? msg("rank ", rank, ": ") : std::string(),
+                                      jobs[j].direction, " point ", ++done, "/", n_points, "  ",
                                       speeds[i], " rpm  rms DTE ", 1e6 * row.summary.rms_dte_m,
                                       " um  period ", row.summary.period_multiplicity, "  (",
                                       std::chrono::duration<double>(
@@ -293,22 +401,26 @@ namespace hertzgear
                 std::lock_guard<std::mutex> lock(mutex);
                 if (!failure)
                   failure = std::current_exception();
-                next_job = jobs.size();
+                next_job = my_jobs.size();
               }
           }
       };
       {
         PhaseTimer::Scope scope(timer, "integrate");
+        // Default: the hardware threads shared among the ranks.
         const int n_threads = std::max(
-          1, std::min<int>(n_threads_requested > 0 ? n_threads_requested :
-                                                     int(std::thread::hardware_concurrency()),
-                           jobs.size()));
+          1, std::min<int>(n_threads_requested > 0 ?
+                             n_threads_requested :
+                             int(std::thread::hardware_concurrency() / n_ranks),
+                           my_jobs.size()));
         std::vector<std::thread> threads;
         for (int t = 0; t < n_threads; ++t)
           threads.emplace_back(worker);
         for (auto &t : threads)
           t.join();
       }
+      if (n_ranks > 1)
+        gather_sweep_rows(comm, failure, rows, total_stats);
       if (failure)
         std::rethrow_exception(failure);
 
@@ -331,18 +443,39 @@ namespace hertzgear
               for (const double x : r.poincare_dte_m)
                 bifurcation_csv << csv_number(r.speed_rpm) << ',' << csv_number(1e6 * x) << '\n';
           }
-      if (ctx.out_dir.empty())
-        std::cout << sweep_csv.str();
-      else
+      if (dir)
         {
           PhaseTimer::Scope scope(timer, "write");
-          RunDirectory      dir(ctx.out_dir, scene, ctx.command_line);
-          dir.write_text("sweep.csv", sweep_csv.str());
-          dir.write_text("bifurcation.csv", bifurcation_csv.str());
-          dir.finish(timer, {{"stage", "sweep"}, {"integrator", integrator_json(total_stats)}});
+          dir->write_text("sweep.csv", sweep_csv.str());
+          dir->write_text("bifurcation.csv", bifurcation_csv.str());
         }
-      if (ctx.out_dir.empty())
-        timer.print_summary(progress_stream());
+      return {sweep_csv.str(), integrator_json(total_stats)};
+    }
+
+  namespace
+  {
+    int run_sweep(const CommandContext &ctx, const int n_threads_requested)
+    {
+      PhaseTimer timer;
+      Scene      scene;
+      {
+        PhaseTimer::Scope scope(timer, "scene");
+        scene = load_scene(ctx.scene_file, ctx.overrides);
+      }
+      // Under mpirun only rank 0 writes; the other ranks compute their share of the points.
+      if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
+        run_sweep_stage(scene, nullptr, timer, n_threads_requested);
+      else if (ctx.out_dir.empty())
+        {
+          std::cout << run_sweep_stage(scene, nullptr, timer, n_threads_requested).sweep_csv;
+          timer.print_summary(progress_stream());
+        }
+      else
+        {
+          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
+          const auto out = run_sweep_stage(scene, &dir, timer, n_threads_requested);
+          dir.finish(timer, {{"stage", "sweep"}, {"integrator", out.integrator}});
+        }
       return 0;
     }
   } // namespace

@@ -2,6 +2,8 @@
 // Pieces shared by the dynamics commands (dynamics, sweep, accuracy dynamics).
 #include "app/command.h"
 #include "app/dynamics_setup.h"
+#include "app/run_directory.h"
+#include "common/progress.h"
 
 #include <nlohmann/json.hpp>
 
@@ -12,4 +14,20 @@ namespace hertzgear
                               const dynamics::SimulationResult &result,
                               const dynamics::SteadyStateSummary &summary);
   int run_accuracy_dynamics(const CommandContext &ctx);
+
+  // The dynamics stage on a loaded scene: integrate, analyse and, when `dir` is given, write
+  // timeseries.csv, poincare.csv, spectrum.csv, force_penetration.csv, impacts.csv and
+  // summary.json into it (not used_parameters.prm / run.json: the caller finishes the run).
+  // Returns the summary. Used by `hertzgear dynamics` and by the pipeline of `hertzgear run`.
+  nlohmann::json run_dynamics_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer);
+
+  struct SweepStageOutput
+  {
+    std::string    sweep_csv;  // what sweep.csv holds
+    nlohmann::json integrator; // summed integrator statistics
+  };
+  // The speed sweep of Sweep/*: writes sweep.csv and bifurcation.csv into `dir` when given.
+  // `n_threads` 0 = all hardware threads. Used by `hertzgear sweep` and `hertzgear run`.
+  SweepStageOutput run_sweep_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer,
+                                   int n_threads);
 } // namespace hertzgear

@@ -61,6 +61,7 @@ namespace hertzgear
   void add_geometry_commands(CommandRegistry &registry); // geometry, mesh
   void add_report_command(CommandRegistry &registry); // report
   void add_stiffness_commands(CommandRegistry &registry); // stiffness
+  void add_run_command(CommandRegistry &registry); // run (app/cmd_run.cc, app/pipeline.h)
 
   // Figures and DIR/report/index.html (or report_dir) from the artifacts in run_dir; returns the
   // exit code (2 when run_dir holds no artifact). Used by `report` and at the end of `run`.

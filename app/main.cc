@@ -6,6 +6,7 @@
 //
 // Exit codes: 0 success, 2 bad input (scene, arguments, geometry), 3 numerical failure,
 // 1 anything else.
+#include "app/cmd_validate_hertz.h"
 #include "app/command.h"
 #include "common/errors.h"
 
@@ -34,6 +35,8 @@ int main(int argc, char **argv)
   add_geometry_commands(registry);
   add_report_command(registry);
   add_stiffness_commands(registry);
+  add_validation_commands(registry, app);
+  add_run_command(registry);
 
   // CLI11 would call an unknown command "extra positional arguments"; name it instead.
   if (argc > 1 && argv[1][0] != '-')

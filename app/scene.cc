@@ -233,6 +233,7 @@ namespace hertzgear
       st.contact_grid_profile_points = 24;
       st.contact_grid_face_points    = 16;
       st.contact_max_iterations      = 100;
+      st.reference_depth_mm          = 0.0;
       st.linear_solver               = "direct";
       st.linear_solver_tolerance     = 1.0e-10;
       s.enter("Stiffness", "Where the mesh stiffness comes from and how finely it is resolved.");
@@ -264,6 +265,12 @@ namespace hertzgear
       s.add("contact_max_iterations", st.contact_max_iterations, Patterns::Integer(1, 100000),
             "Iteration cap of the active-set contact solver per solve (count); reaching it is a "
             "numerical failure (exit 3) with the history of the active set.");
+      s.add("reference_depth_mm", st.reference_depth_mm, Patterns::Double(0.0, 10.0),
+            "Depth d [mm] below the flank at which the FE compliance is read; the half-space "
+            "supplies the local part above it, and FE load patches have radius d/2. 0 = "
+            "automatic: 3 x the element size in the contact band at fe_level (0.54 mm for module "
+            "3 at level 1). Fix it to compare levels at the same split (hertzgear accuracy "
+            "stiffness does); at most half a module.");
       s.add("linear_solver", st.linear_solver, Patterns::Selection("direct|amg-cg"),
             "Linear solver of the FE bodies: direct (MUMPS, factorised once and reused) or amg-cg.");
       s.add("linear_solver_tolerance", st.linear_solver_tolerance, Patterns::Double(1.0e-16, 1.0e-2),

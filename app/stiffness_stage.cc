@@ -2,16 +2,22 @@
 
 #include "app/meshing_setup.h"
 #include "app/run_directory.h"
+#include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/progress.h"
+#include "fem/body_fields.h"
 #include "fem/flank_compliance.h"
 #include "meshing/gear_body_mesher.h"
 
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/shared_tria.h>
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <fstream>
 #include <iomanip>
 #include <memory>
@@ -40,18 +46,76 @@ namespace hertzgear
       virtual ~Body() = default;
       virtual const fem::FlankCompliance &compliance() const = 0;
       virtual std::size_t                 n_dofs() const     = 0;
+      // Displacement and stress of the body under the contact pressures of one position
+      // (collective); returns the .pvtu name. `force_scale` turns p A [N] into the FE body's
+      // load (1/b for the unit-thickness plane-strain body).
+      virtual std::string write_fields(const fem::PositionResult &p, bool is_gear, double force_scale,
+                                       const fs::path &dir, const std::string &name,
+                                       unsigned int counter) const = 0;
+      // The contact-grid cell centres on this body's flank, in its frame (z = 0 in 2D).
+      virtual std::vector<std::array<double, 3>> contact_points(const fem::PositionResult &p,
+                                                                bool is_gear) const = 0;
     };
+
+    unsigned int world_rank()
+    {
+      return dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+    }
+
+    // Runs `work` on rank 0 only (gmsh, file system); an exception there is re-thrown on every
+    // rank with its type and text, so no rank waits forever in the next collective call.
+    void on_root(const std::function<void()> &work)
+    {
+      int         code = 0;
+      std::string text;
+      if (world_rank() == 0)
+        {
+          try
+            {
+              work();
+            }
+          catch (const InputError &e)
+            {
+              code = 2;
+              text = e.what();
+            }
+          catch (const NumericalError &e)
+            {
+              code = 3;
+              text = e.what();
+            }
+          catch (const std::exception &e)
+            {
+              code = 1;
+              text = e.what();
+            }
+        }
+      if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+        {
+          code = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, code, 0);
+          text = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, text, 0);
+        }
+      if (code == 2)
+        throw InputError(text);
+      if (code == 3)
+        throw NumericalError(text);
+      if (code != 0)
+        throw std::runtime_error(text);
+    }
 
     template <int dim>
     struct BodyModel : Body
     {
-      dealii::Triangulation<dim>                         triangulation;
+      // parallel::shared: every rank holds the whole (small, 2D or coarse 3D) mesh and owns a
+      // partition of it; the linear algebra is distributed over MPI_COMM_WORLD.
+      dealii::parallel::shared::Triangulation<dim>        triangulation;
       std::unique_ptr<fem::ElasticBody<dim>>             body;
       std::unique_ptr<fem::TabulatedFlankCompliance<dim>> table;
 
       BodyModel(const fs::path &msh, const MaterialScene &material, const Scene &scene,
                 const meshing::GearGeometry &gear, const int central,
                 const std::vector<int> &teeth, const fem::FlankTableSettings &table_settings)
+        : triangulation(MPI_COMM_WORLD)
       {
         dealii::GridIn<dim> grid_in;
         grid_in.attach_triangulation(triangulation);
@@ -84,6 +148,44 @@ namespace hertzgear
       }
       const fem::FlankCompliance &compliance() const override { return *table; }
       std::size_t                 n_dofs() const override { return body->n_dofs(); }
+
+      fem::FlankPoint flank_point(const fem::PositionResult &p, const std::size_t k,
+                                  const bool is_gear) const
+      {
+        return is_gear ? fem::FlankPoint{-p.cell_pair[k], p.cell_gear_roll_mm[k], p.cell_z_mm[k]} :
+                         fem::FlankPoint{p.cell_pair[k], p.cell_pinion_roll_mm[k], p.cell_z_mm[k]};
+      }
+
+      std::string write_fields(const fem::PositionResult &p, const bool is_gear,
+                               const double force_scale, const fs::path &dir,
+                               const std::string &name, const unsigned int counter) const override
+      {
+        std::vector<typename fem::ElasticBody<dim>::PatchLoad> loads;
+        std::vector<double>                                    forces;
+        for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+          if (p.cell_pressure_MPa[k] > 0)
+            {
+              loads.push_back(table->patch_load(flank_point(p, k, is_gear)));
+              forces.push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k] * force_scale);
+            }
+        const auto u = body->solve_patch_loads(loads, forces);
+        return fem::write_body_fields(*body, u, dir, name, counter);
+      }
+
+      std::vector<std::array<double, 3>> contact_points(const fem::PositionResult &p,
+                                                        const bool is_gear) const override
+      {
+        std::vector<std::array<double, 3>> points;
+        for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+          {
+            const auto load = table->patch_load(flank_point(p, k, is_gear));
+            std::array<double, 3> x{0, 0, 0};
+            for (unsigned int c = 0; c < dim; ++c)
+              x[c] = load.centre[c];
+            points.push_back(x);
+          }
+        return points;
+      }
     };
 
     std::unique_ptr<Body> make_body(const int dim, const fs::path &msh, const MaterialScene &m,
@@ -102,8 +204,24 @@ namespace hertzgear
     }
   } // namespace
 
+  bool is_root_rank() { return world_rank() == 0; }
+
+  double reference_depth_mm(const Scene &scene)
+  {
+    if (scene.stiffness.reference_depth_mm > 0)
+      return scene.stiffness.reference_depth_mm;
+    return 3.0 * band_element_size_mm(mesh_settings(scene, scene.stiffness.fe_dimension),
+                                      scene.pinion.module_mm);
+  }
+
   StiffnessStageResult run_stiffness_stage(const Scene &scene, const fs::path &mesh_dir,
                                            PhaseTimer &timer)
+  {
+    return run_stiffness_stage(scene, mesh_dir, timer, StiffnessStageOptions{});
+  }
+
+  StiffnessStageResult run_stiffness_stage(const Scene &scene, const fs::path &mesh_dir,
+                                           PhaseTimer &timer, const StiffnessStageOptions &options)
   {
     HG_REQUIRE_INPUT(scene.operating.torque_Nm > 0, "Operating/torque_Nm = ",
                      scene.operating.torque_Nm,
@@ -149,11 +267,16 @@ namespace hertzgear
     const meshing::MeshSettings mesh = mesh_settings(scene, dim);
     const double h = band_element_size_mm(mesh, kin->pinion().module_mm());
     fem::FlankTableSettings table;
-    table.reference_depth_mm = 3.0 * h;
-    table.patch_radius_mm    = 1.5 * h;
+    table.reference_depth_mm = reference_depth_mm(scene);
+    table.patch_radius_mm    = 0.5 * table.reference_depth_mm;
+    HG_REQUIRE_INPUT(table.reference_depth_mm <= 0.5 * kin->pinion().module_mm(),
+                     "Stiffness/reference_depth_mm = ", table.reference_depth_mm,
+                     " mm is deeper than half a module (", 0.5 * kin->pinion().module_mm(),
+                     " mm): the half-space cannot stand for the local deformation of a tooth "
+                     "that deep");
     table.n_face             = dim == 3 ? 6 : 1;
 
-    fs::create_directories(mesh_dir);
+    on_root([&] { fs::create_directories(mesh_dir); });
     std::unique_ptr<Body> bodies[2];
     std::size_t           n_dofs_total = 0;
     const auto            A = kin->point('A'), E = kin->point('E');
@@ -164,14 +287,24 @@ namespace hertzgear
         const double      start = b == 0 ? A.radius_pinion_mm : E.radius_gear_mm;
         const fs::path    msh   = mesh_dir / (name + ".msh");
         int               central = 0;
+        double            band_max_edge_mm = 0;
         {
           PhaseTimer::Scope scope(timer, "mesh " + name);
-          meshing::GearBodyMesher mesher;
-          const auto quality = mesher.mesh(gear, mesh, start, msh);
-          central            = quality.central_tooth;
-          progress_line("stiffness", name + " mesh: " + std::to_string(quality.n_elements) +
-                                       " elements, " + std::to_string(quality.n_nodes) + " nodes" +
-                                       (quality.full_gear ? " (full gear)" : ""));
+          // gmsh runs on rank 0 only; the others read its file.
+          on_root([&] {
+            meshing::GearBodyMesher mesher;
+            const auto quality = mesher.mesh(gear, mesh, start, msh);
+            central            = quality.central_tooth;
+            band_max_edge_mm   = quality.contact_band_max_edge_mm;
+            progress_line("stiffness", name + " mesh: " + std::to_string(quality.n_elements) +
+                                         " elements, " + std::to_string(quality.n_nodes) + " nodes" +
+                                         (quality.full_gear ? " (full gear)" : ""));
+          });
+          if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+            {
+              central = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, central, 0);
+              band_max_edge_mm = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, band_max_edge_mm, 0);
+            }
         }
         PhaseTimer::Scope scope(timer, "FE compliance " + name);
         // Tabulate the active profile, where the mesher refines the band; grid cells just
@@ -183,8 +316,31 @@ namespace hertzgear
                                       std::ceil((s.roll_max_mm - s.roll_min_mm) /
                                                 table.reference_depth_mm)) + 1);
         const auto t0 = std::chrono::steady_clock::now();
-        bodies[b] = make_body(dim, msh, b == 0 ? scene.pinion_material : scene.gear_material, scene,
-                              gear, central, b == 0 ? pinion_teeth : gear_teeth, s);
+        try
+          {
+            bodies[b] = make_body(dim, msh, b == 0 ? scene.pinion_material : scene.gear_material,
+                                  scene, gear, central, b == 0 ? pinion_teeth : gear_teeth, s);
+          }
+        catch (const fem::PatchOffMeshError &e)
+          {
+            // The user did not ask for patches; say which scene values make the mesh too coarse.
+            std::ostringstream why;
+            why << "the FE mesh of the " << name << " is too coarse for the contact band: the "
+                << "load patches of the compliance table have a radius of " << s.patch_radius_mm
+                << " mm (half of Stiffness/reference_depth_mm; the band element size is " << h
+                << " mm at Stiffness/fe_level = " << scene.stiffness.fe_level << "), but the flank elements are up to "
+                << band_max_edge_mm << " mm long across the profile";
+            if (dim == 3)
+              why << " and " << gear.face_width_mm() / (mesh.face_width_layers *
+                                                         std::pow(2.0, mesh.refinement_level))
+                  << " mm along the face (face width / (Mesh/face_width_layers = "
+                  << scene.mesh.face_width_layers << " x 2^level))";
+            why << ", so a patch can fall between the quadrature points of a face. Raise "
+                << (dim == 3 ? "Mesh/face_width_layers or " : "")
+                << "Stiffness/fe_level, or Stiffness/reference_depth_mm. ("
+                << e.what() << ")";
+            throw InputError(why.str());
+          }
         n_dofs_total += bodies[b]->n_dofs();
         const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::ostringstream line;
@@ -229,6 +385,68 @@ namespace hertzgear
         t0 = now;
       });
     }
+
+    for (const auto &[profile, face] : options.extra_contact_grids)
+      {
+        PhaseTimer::Scope      scope(timer, "contact over the mesh cycle (grid ladder)");
+        fem::MeshCycleSettings c2 = cs;
+        c2.profile_cells          = static_cast<unsigned int>(profile);
+        c2.face_cells             = static_cast<unsigned int>(face);
+        const fem::MeshCycle other(*kin, m1, m2, bodies[0]->compliance(), bodies[1]->compliance(), c2);
+        const auto           t0 = std::chrono::steady_clock::now();
+        result.extra_cycles.push_back(other.run(result.load_N));
+        std::ostringstream line;
+        line << "contact grid " << profile << " x " << (dim == 2 ? 1 : face) << ": mean k_total "
+             << std::setprecision(6) << result.extra_cycles.back().k_total.mean * 1e-3
+             << " N/um  (" << std::setprecision(3)
+             << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s)";
+        progress_line("stiffness", line.str());
+      }
+
+    if (!options.fields_dir.empty())
+      {
+        PhaseTimer::Scope scope(timer, "fields");
+        // A hidden partial folder next to the destination; commit_stiffness_fields renames it.
+        std::string partial = temporary_path_for(options.fields_dir).string();
+        if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+          partial = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, partial, 0);
+        on_root([&] {
+          fs::remove_all(partial);
+          fs::create_directories(partial);
+        });
+        const double force_scale = dim == 2 ? 1.0 / std::min(kin->pinion().face_width_mm(),
+                                                             kin->gear().face_width_mm()) :
+                                              1.0;
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            const std::string name = b == 0 ? "pinion" : "gear";
+            std::vector<std::pair<double, std::string>> fields, contact;
+            for (unsigned int i = 0; i < result.cycle.positions.size(); ++i)
+              {
+                const auto &p = result.cycle.positions[i];
+                fields.emplace_back(p.mesh_phase,
+                                    bodies[b]->write_fields(p, b == 1, force_scale, partial, name, i));
+                const auto points = bodies[b]->contact_points(p, b == 1);
+                const std::string file = msg(name, "_contact_", std::setw(4), std::setfill('0'), i, ".vtu");
+                contact.emplace_back(p.mesh_phase, file);
+                on_root([&] {
+                  std::vector<double> pair(p.cell_pair.begin(), p.cell_pair.end()), force;
+                  for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+                    force.push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k]);
+                  fem::write_point_cloud_vtu(fs::path(partial) / file, points,
+                                             {{"contact_pressure_MPa", p.cell_pressure_MPa},
+                                              {"cell_force_N", force},
+                                              {"pair", pair}});
+                });
+              }
+            on_root([&] {
+              fem::write_pvd(fs::path(partial) / (name + ".pvd"), fields);
+              fem::write_pvd(fs::path(partial) / (name + "_contact.pvd"), contact);
+            });
+            progress_line("stiffness", msg(name, " fields: ", fields.size(), " positions"));
+          }
+        result.fields_partial_dir = partial;
+      }
 
     // The dynamics' table, in SI: N/m, N/m^n, m.
     const double n      = cs.hertz_exponent;
@@ -275,6 +493,20 @@ namespace hertzgear
     result.metadata["contact_grid"] = {{"profile_cells", cs.profile_cells},
                                        {"face_cells", dim == 2 ? 1u : cs.face_cells}};
     return result;
+  }
+
+  void commit_stiffness_fields(const StiffnessStageResult &result, const fs::path &fields_dir)
+  {
+    if (result.fields_partial_dir.empty())
+      return;
+    on_root([&] {
+      // Replace an older folder: move it aside first, so that fields_dir is never half there.
+      const fs::path old = temporary_path_for(fields_dir);
+      if (fs::exists(fields_dir))
+        fs::rename(fields_dir, old);
+      fs::rename(result.fields_partial_dir, fields_dir);
+      fs::remove_all(old);
+    });
   }
 
   std::string stiffness_csv(const StiffnessStageResult &r, const double n)

@@ -306,10 +306,29 @@ namespace hertzgear
               }
       rhs.compress(VectorOperation::add);
       weighted_area = Utilities::MPI::sum(weighted_area, mpi_communicator);
-      HG_REQUIRE_INPUT(weighted_area > 0, "the load patch of radius ", load.radius, " around (",
-                       load.centre, ") touches no quadrature point of a loadable boundary face; "
-                       "the patch is off the surface or smaller than the surface mesh");
+      if (!(weighted_area > 0))
+        throw PatchOffMeshError(msg("the load patch of radius ", load.radius, " around (",
+                                    load.centre, ") touches no quadrature point of a loadable "
+                                    "boundary face; the patch is off the surface or smaller than "
+                                    "the surface mesh"));
       return {std::move(rhs), weighted_area};
+    }
+
+    template <int dim>
+    typename ElasticBody<dim>::VectorType
+    ElasticBody<dim>::solve_patch_loads(const std::vector<PatchLoad> &loads,
+                                        const std::vector<double> &   forces) const
+    {
+      HG_REQUIRE_INPUT(loads.size() == forces.size(), "solve_patch_loads: ", loads.size(),
+                       " loads but ", forces.size(), " forces");
+      VectorType total(locally_owned_dofs, mpi_communicator);
+      for (std::size_t k = 0; k < loads.size(); ++k)
+        if (forces[k] != 0.0)
+          {
+            auto [f, area] = assemble_patch_rhs(loads[k]);
+            total.add(forces[k] / area, f);
+          }
+      return solve(total);
     }
 
     template <int dim>

@@ -10,6 +10,8 @@
 //   const auto C = body.compliance(loads, readings);  // C(r, l) = u_l(point_r) . direction_r
 //
 // Inputs before outputs, SI or any consistent unit system (the class never converts units).
+#include "common/errors.h"
+
 #include <deal.II/base/function.h>
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/point.h>
@@ -39,6 +41,15 @@ namespace hertzgear
     // mesh). Throws InputError if the file cannot be read.
     template <int dim>
     void read_gmsh_mesh(const std::string &filename, dealii::Triangulation<dim> &triangulation);
+
+    // A patch load that touches no quadrature point of a loadable boundary face: the surface
+    // mesh is coarser than the patch. An input error (exit 2); callers that know which scene
+    // values set the mesh and the patch catch it and say so.
+    class PatchOffMeshError : public InputError
+    {
+    public:
+      using InputError::InputError;
+    };
 
     template <int dim>
     class ElasticBody
@@ -96,6 +107,10 @@ namespace hertzgear
                                 const TractionFunction &         traction) const;
       // Displacement field of one patch load.
       VectorType solve_patch_load(const PatchLoad &load) const;
+      // Displacement field of several patch loads at once, patch k carrying the force
+      // forces[k] * direction_k (one assembly pass, one solve): the loaded body of a mesh position.
+      VectorType solve_patch_loads(const std::vector<PatchLoad> &loads,
+                                   const std::vector<double> &   forces) const;
 
       // Displacements (vectors) at points anywhere in the body; collective, every rank gets all.
       std::vector<dealii::Tensor<1, dim>> point_values(const VectorType &                     solution,
@@ -117,6 +132,7 @@ namespace hertzgear
       const dealii::DoFHandler<dim> & get_dof_handler() const { return dof_handler; }
       const dealii::Mapping<dim> &    get_mapping() const { return mapping; }
       MPI_Comm                        get_communicator() const { return mpi_communicator; }
+      const Parameters &              get_parameters() const { return parameters; }
 
     private:
       void setup_system();

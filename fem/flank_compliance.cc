@@ -20,7 +20,7 @@ namespace hertzgear::fem
                                                           const meshing::GearGeometry &gear,
                                                           const int                  central_tooth,
                                                           const FlankTableSettings  &settings)
-    : settings(settings)
+    : geometry(&gear), settings(settings)
   {
     HG_REQUIRE_INPUT(settings.n_roll >= 2, "flank table: at least 2 roll nodes");
     HG_REQUIRE_INPUT(settings.roll_max_mm > settings.roll_min_mm,
@@ -51,35 +51,14 @@ namespace hertzgear::fem
     using Reading = typename ElasticBody<dim>::PointReading;
     std::vector<Load>    loads;
     std::vector<Reading> readings;
-    const double         r_b   = gear.base_radius_mm();
-    const double         pitch = 2.0 * M_PI / gear.n_teeth();
     for (const int t : settings.teeth)
       for (const double roll : roll_nodes)
         for (const double z : face_nodes)
           {
-            const double    u      = roll / r_b;
-            const double    angle  = t * pitch;
-            Eigen::Vector2d p      = gear.involute_point(u);
-            Eigen::Vector2d n      = gear.involute_normal(u);
-            // The modified flank (crowning, tip relief) lies Delta inside the nominal one.
-            p -= (dim == 3 ? gear.modification_mm(roll, z) : gear.tip_relief_mm(roll)) * n;
-            const Eigen::Vector2d pr = meshing::GearGeometry::rotate(p, angle);
-            const Eigen::Vector2d nr = meshing::GearGeometry::rotate(n, angle);
-            Load                  load;
-            Reading               reading;
-            for (unsigned int c = 0; c < 2; ++c)
-              {
-                load.centre[c]     = pr[c];
-                load.direction[c]  = -nr[c];
-                reading.point[c]   = pr[c] - settings.reference_depth_mm * nr[c];
-                reading.direction[c] = -nr[c];
-              }
-            if constexpr (dim == 3)
-              {
-                load.centre[2]    = z;
-                reading.point[2]  = z;
-              }
-            load.radius = settings.patch_radius_mm;
+            const Load load = patch_load({t, roll, z});
+            Reading    reading;
+            reading.point     = load.centre + settings.reference_depth_mm * load.direction;
+            reading.direction = load.direction;
             loads.push_back(load);
             readings.push_back(reading);
           }
@@ -89,6 +68,31 @@ namespace hertzgear::fem
     for (unsigned int i = 0; i < c.m(); ++i)
       for (unsigned int j = 0; j < c.n(); ++j)
         table(i, j) = c(i, j) * scale;
+  }
+
+  template <int dim>
+  typename ElasticBody<dim>::PatchLoad
+  TabulatedFlankCompliance<dim>::patch_load(const FlankPoint &f) const
+  {
+    const double    r_b   = geometry->base_radius_mm();
+    const double    pitch = 2.0 * M_PI / geometry->n_teeth();
+    const double    u     = f.roll_mm / r_b;
+    Eigen::Vector2d p     = geometry->involute_point(u);
+    Eigen::Vector2d n     = geometry->involute_normal(u);
+    // The modified flank (crowning, tip relief) lies Delta inside the nominal one.
+    p -= (dim == 3 ? geometry->modification_mm(f.roll_mm, f.z_mm) : geometry->tip_relief_mm(f.roll_mm)) * n;
+    const Eigen::Vector2d pr = meshing::GearGeometry::rotate(p, f.tooth * pitch);
+    const Eigen::Vector2d nr = meshing::GearGeometry::rotate(n, f.tooth * pitch);
+    typename ElasticBody<dim>::PatchLoad load;
+    for (unsigned int c = 0; c < 2; ++c)
+      {
+        load.centre[c]    = pr[c];
+        load.direction[c] = -nr[c];
+      }
+    if constexpr (dim == 3)
+      load.centre[2] = f.z_mm;
+    load.radius = settings.patch_radius_mm;
+    return load;
   }
 
   template <int dim>

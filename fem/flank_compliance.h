@@ -43,12 +43,17 @@ namespace hertzgear::fem
     bool   covers_tooth(int tooth) const override;
 
     unsigned int n_load_cases() const { return static_cast<unsigned int>(table.cols()); }
+    // The unit patch load at a flank point of this body, in the body's frame (centre on the
+    // modified flank, direction the inward normal, radius the table's patch radius): the load
+    // cases of the table, and the loads of the fields written per mesh position.
+    typename ElasticBody<dim>::PatchLoad patch_load(const FlankPoint &p) const;
     // The raw table (reading x load), for tests (Maxwell-Betti reciprocity, convergence).
     const Eigen::MatrixXd &matrix() const { return table; }
     // Node index of (tooth, roll node, face node).
     unsigned int node(unsigned int tooth_index, unsigned int i_roll, unsigned int i_face) const;
 
   private:
+    const meshing::GearGeometry *geometry = nullptr; // must outlive the table
     FlankTableSettings  settings;
     std::vector<double> roll_nodes, face_nodes;
     double              scale = 1; // 1/b in 2D

@@ -290,6 +290,9 @@ namespace hertzgear::fem
         r.cell_u_mm.push_back(g.u_mm[k]);
         r.cell_z_mm.push_back(g.z_mm[k]);
         r.cell_pressure_MPa.push_back(sol.pressure(k));
+        r.cell_pinion_roll_mm.push_back(g.pinion_point[k].roll_mm);
+        r.cell_gear_roll_mm.push_back(g.gear_point[k].roll_mm);
+        r.cell_area_mm2.push_back(g.area(k));
       }
     return r;
   }

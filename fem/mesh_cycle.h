@@ -119,6 +119,9 @@ namespace hertzgear::fem
     // surface coordinate across the profile [mm], the face position [mm] and the pressure [MPa].
     std::vector<int>    cell_pair;
     std::vector<double> cell_u_mm, cell_z_mm, cell_pressure_MPa;
+    // Where each cell sits on the flanks (roll distances of the pinion and the gear point; the
+    // pinion tooth is +pair, the gear tooth -pair) and its area [mm^2].
+    std::vector<double> cell_pinion_roll_mm, cell_gear_roll_mm, cell_area_mm2;
   };
 
   struct MeshCycleResult

@@ -210,66 +210,91 @@ TEST(Report, InterruptedReportLeavesNoHalfWrittenFile)
 }
 
 // The page shall load in a browser with no missing image, and its screenshot shall not be blank.
+namespace
+{
+  // The report of `dir` loads in headless Chromium with at least `min_images` images, none
+  // broken, and its screenshot is not blank. Skips when Chromium is not installed.
+  void expect_report_renders_in_chromium(const fs::path &dir, const int min_images)
+  {
+    std::string chromium;
+    for (const char *c : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+      if (::access(c, X_OK) == 0)
+        chromium = c;
+    if (chromium.empty())
+      GTEST_SKIP() << "chromium is not installed (apt-get install chromium); the browser check "
+                      "is skipped";
+    const fs::path report = dir / "report";
+
+    // A copy of the page, in the same folder so relative image paths resolve, with a script that
+    // records after the load event how many images decoded (naturalWidth > 0) and which did not.
+    std::string html = slurp(report / "index.html");
+    const std::string probe =
+      "<script>window.addEventListener('load', function () {"
+      " var bad = [], imgs = document.images;"
+      " for (var i = 0; i < imgs.length; ++i)"
+      "   if (!imgs[i].complete || imgs[i].naturalWidth === 0) bad.push(imgs[i].getAttribute('src'));"
+      " document.body.setAttribute('data-images', imgs.length);"
+      " document.body.setAttribute('data-broken', bad.join(' ') || 'none'); });</script>";
+    html.replace(html.rfind("</body>"), 7, probe + "</body>");
+    std::ofstream(report / "browser_check.html") << html;
+
+    const fs::path profile = dir / "chromium-profile";
+    const std::string common =
+      "timeout 180 " + chromium +
+      " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
+      " --disable-background-networking --disable-component-update --disable-sync"
+      " --disable-dev-shm-usage --virtual-time-budget=10000 --user-data-dir=" + quoted(profile) +
+      " --window-size=1280,2000 ";
+    const fs::path dom = dir / "dom.html";
+    ASSERT_EQ(run_shell(common + "--dump-dom 'file://" + (report / "browser_check.html").string() +
+                        "' >" + quoted(dom) + " 2>/dev/null"),
+              0);
+    const std::string dumped = slurp(dom);
+    std::smatch       m;
+    ASSERT_TRUE(std::regex_search(dumped, m, std::regex(R"re(data-images="(\d+)")re")))
+      << "the load probe did not run";
+    EXPECT_GE(std::stoi(m[1]), min_images) << "the page should show the figures";
+    EXPECT_THAT(dumped, HasSubstr("data-broken=\"none\"")) << "images that did not load";
+
+    const fs::path shot = dir / "screenshot.png";
+    ASSERT_EQ(run_shell(common + "--screenshot=" + quoted(shot) + " 'file://" +
+                        (report / "index.html").string() + "' >/dev/null 2>&1"),
+              0);
+    ASSERT_TRUE(is_complete_png(shot));
+    // Not blank: pixel standard deviation well above zero (a blank page has 0; this page with a
+    // dark header, text and figures has about 0.2 on a 0..1 scale) and more than 5 % of the pixels
+    // away from the page background.
+    const std::string check =
+      python() + " -c \"import sys, numpy as np, matplotlib.image as mi;"
+                 " a = mi.imread(sys.argv[1])[..., :3]; bg = np.median(a.reshape(-1, 3), axis=0);"
+                 " far = (np.abs(a - bg).max(axis=2) > 0.1).mean();"
+                 " print('std %.3f, non-background %.3f' % (a.std(), far));"
+                 " sys.exit(0 if a.std() > 0.05 and far > 0.05 else 1)\" " +
+      quoted(shot);
+    EXPECT_EQ(run_shell(check), 0) << "the screenshot looks blank";
+  }
+} // namespace
+
 TEST(Report, PageRendersInHeadlessChromium)
 {
-  std::string chromium;
-  for (const char *c : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
-    if (::access(c, X_OK) == 0)
-      chromium = c;
-  if (chromium.empty())
-    GTEST_SKIP() << "chromium is not installed (apt-get install chromium); the browser check is "
-                    "skipped";
-
   const fs::path dir = make_run("report_chromium", "--layout nested");
   const auto     r   = run_hertzgear("report " + quoted(dir));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const fs::path report = dir / "report";
+  expect_report_renders_in_chromium(dir, 10);
+}
 
-  // A copy of the page, in the same folder so relative image paths resolve, with a script that
-  // records after the load event how many images decoded (naturalWidth > 0) and which did not.
-  std::string html = slurp(report / "index.html");
-  const std::string probe =
-    "<script>window.addEventListener('load', function () {"
-    " var bad = [], imgs = document.images;"
-    " for (var i = 0; i < imgs.length; ++i)"
-    "   if (!imgs[i].complete || imgs[i].naturalWidth === 0) bad.push(imgs[i].getAttribute('src'));"
-    " document.body.setAttribute('data-images', imgs.length);"
-    " document.body.setAttribute('data-broken', bad.join(' ') || 'none'); });</script>";
-  html.replace(html.rfind("</body>"), 7, probe + "</body>");
-  std::ofstream(report / "browser_check.html") << html;
-
-  const fs::path profile = dir / "chromium-profile";
-  const std::string common =
-    "timeout 180 " + chromium +
-    " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-    " --disable-background-networking --disable-component-update --disable-sync"
-    " --disable-dev-shm-usage --virtual-time-budget=10000 --user-data-dir=" + quoted(profile) +
-    " --window-size=1280,2000 ";
-  const fs::path dom = dir / "dom.html";
-  ASSERT_EQ(run_shell(common + "--dump-dom 'file://" + (report / "browser_check.html").string() +
-                      "' >" + quoted(dom) + " 2>/dev/null"),
-            0);
-  const std::string dumped = slurp(dom);
-  std::smatch       m;
-  ASSERT_TRUE(std::regex_search(dumped, m, std::regex(R"re(data-images="(\d+)")re")))
-    << "the load probe did not run";
-  EXPECT_GE(std::stoi(m[1]), 10) << "the page should show the figures";
-  EXPECT_THAT(dumped, HasSubstr("data-broken=\"none\"")) << "images that did not load";
-
-  const fs::path shot = dir / "screenshot.png";
-  ASSERT_EQ(run_shell(common + "--screenshot=" + quoted(shot) + " 'file://" +
-                      (report / "index.html").string() + "' >/dev/null 2>&1"),
-            0);
-  ASSERT_TRUE(is_complete_png(shot));
-  // Not blank: pixel standard deviation well above zero (a blank page has 0; this page with a
-  // dark header, text and figures has about 0.2 on a 0..1 scale) and more than 5 % of the pixels
-  // away from the page background.
-  const std::string check =
-    python() + " -c \"import sys, numpy as np, matplotlib.image as mi;"
-               " a = mi.imread(sys.argv[1])[..., :3]; bg = np.median(a.reshape(-1, 3), axis=0);"
-               " far = (np.abs(a - bg).max(axis=2) > 0.1).mean();"
-               " print('std %.3f, non-background %.3f' % (a.std(), far));"
-               " sys.exit(0 if a.std() > 0.05 and far > 0.05 else 1)\" " +
-    quoted(shot);
-  EXPECT_EQ(run_shell(check), 0) << "the screenshot looks blank";
+// The report that `hertzgear run` writes at its end (stiffness from closed forms, dynamics, a
+// short sweep) opens in the browser with the stiffness, dynamics and sweep figures.
+TEST(Report, RunOutputRendersInHeadlessChromium)
+{
+  const fs::path dir = fresh_temp_dir("report_run_chromium");
+  const auto     r   = run_hertzgear(
+    "run " + scene_path("paper_crowned.prm") +
+    " --set Stiffness/source=hertz-analytic --set Dynamics/periods=60"
+    " --set Dynamics/transient_periods=30 --set Sweep/enabled=true --set Sweep/points=3"
+    " --set Sweep/speed_min_rpm=100 --set Sweep/speed_max_rpm=200 --set Sweep/periods_per_point=40"
+    " --set Sweep/transient_periods_per_point=20 --set Sweep/mode=independent --out " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(dir / "report" / "index.html"));
+  expect_report_renders_in_chromium(dir, 10);
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 
 namespace fs = std::filesystem;
@@ -96,4 +97,31 @@ TEST(DynamicsCli, SweepWritesItsTables)
   EXPECT_EQ(std::count(sweep.begin(), sweep.end(), '\n'), 1 + 3 * 3); // up, down, independent
   EXPECT_EQ(slurp(out / "bifurcation.csv").substr(0, 26), "speed_rpm,poincare_dte_um\n");
   fs::remove_all(out);
+}
+
+// Requirement: a sweep spread over MPI ranks (`mpirun -np 2`) gives the same tables as the serial
+// sweep. Every point runs the same deterministic code on one rank whichever rank that is, so the
+// tables must agree byte for byte (tolerance 0); only rank 0 writes.
+TEST(DynamicsCli, SweepOverTwoMpiRanksEqualsSerial)
+{
+  const std::string args = "sweep '" + scene + "' --threads 1 --set Sweep/points=3"
+                           " --set Sweep/speed_min_rpm=100 --set Sweep/speed_max_rpm=300"
+                           " --set Sweep/periods_per_point=12 --set Sweep/transient_periods_per_point=6";
+  const fs::path serial = fresh_dir("sweep_serial"), parallel = fresh_dir("sweep_mpi");
+  const auto     r = run_hertzgear(args + " --out '" + serial.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+
+  ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+  ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  const fs::path    log = parallel.string() + ".log";
+  const std::string cmd = std::string("mpirun -np 2 --oversubscribe '") + HERTZGEAR_EXE + "' " +
+                          args + " --out '" + parallel.string() + "' >'" + log.string() + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(log);
+  const std::string mpi_log = slurp(log);
+  EXPECT_NE(mpi_log.find("rank 1: "), std::string::npos) << "rank 1 computed no point:\n" << mpi_log;
+  for (const char *table : {"sweep.csv", "bifurcation.csv"})
+    EXPECT_EQ(slurp(parallel / table), slurp(serial / table)) << table;
+  fs::remove_all(serial);
+  fs::remove_all(parallel);
+  fs::remove(log);
 }

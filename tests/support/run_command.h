@@ -24,15 +24,17 @@ namespace hertzgear::testing
     return ss.str();
   }
 
-  // `arguments` is appended to the executable path as shell text (quote what needs quoting).
-  inline CommandResult run_hertzgear(const std::string &arguments)
+  // `arguments` is appended to the executable path as shell text (quote what needs quoting);
+  // `launcher` (e.g. "mpirun -np 2 --oversubscribe") is put in front of the executable.
+  inline CommandResult run_hertzgear(const std::string &arguments, const std::string &launcher = "")
   {
 #ifdef HERTZGEAR_EXE
     const std::filesystem::path dir = std::filesystem::temp_directory_path();
     static int                  counter = 0;
     const std::string           tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
     const auto out = dir / ("hg_out_" + tag), err = dir / ("hg_err_" + tag);
-    const std::string cmd = std::string("'") + HERTZGEAR_EXE + "' " + arguments + " >'" +
+    const std::string cmd = launcher + (launcher.empty() ? "" : " ") + "'" + HERTZGEAR_EXE + "' " +
+                            arguments + " >'" +
                             out.string() + "' 2>'" + err.string() + "' </dev/null";
     const int     status = std::system(cmd.c_str());
     CommandResult r;
@@ -44,6 +46,7 @@ namespace hertzgear::testing
     return r;
 #else
     (void)arguments;
+    (void)launcher;
     return {};
 #endif
   }

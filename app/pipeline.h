@@ -1,0 +1,65 @@
+#pragma once
+// The whole chain from one scene (`hertzgear run`): the stages the scene calls for, each cached
+// in the run directory under a key of everything that produced it.
+//
+// Stages, in order (docs/architecture.md, "The pipeline and its cache"):
+//   stiffness  Stiffness/source = fem: meshing + FE contact over the mesh cycle (gmsh, deal.II);
+//              iso6336 / hertz-analytic: closed forms. Writes stiffness.json, stiffness.csv
+//              (fem also mesh/). Not run for source = table or fourier.
+//   dynamics   always: timeseries.csv, poincare.csv, spectrum.csv, force_penetration.csv,
+//              impacts.csv, summary.json
+//   sweep      when Sweep/enabled: sweep.csv, bifurcation.csv
+//   report     when Output/report: report/index.html and its figures
+//
+// Cache: DIR/.hertzgear-cache/<stage>.json records the stage's key, the scene values it read
+// and every artifact with its size and FNV-1a hash. It is written atomically after the
+// artifacts, and removed before a stage runs, so an interrupted stage never leaves a manifest
+// behind; a stage is reused only when its key matches and every artifact verifies.
+#include "app/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace hertzgear
+{
+  struct StageOutcome
+  {
+    std::string stage;
+    bool        ran = false;
+    std::string reason;      // why it ran, or why its cached artifacts were reused
+    double      wall_time_s = 0;
+  };
+
+  struct PipelineOptions
+  {
+    bool force         = false; // rerun every stage whatever the cache says
+    int  sweep_threads = 0;     // 0: all hardware threads
+  };
+
+  // Cache key material of one stage: the scene values it reads (one "Section/key = value" line
+  // each), the code version and the content hashes of its input artifacts.
+  struct StageKey
+  {
+    std::string                                      scene_values;
+    std::string                                      code;
+    std::vector<std::pair<std::string, std::string>> inputs; // name, content hash
+    std::string                                      key() const;
+  };
+
+  // The stages a scene calls for, each with a one-line reason (printed by `run`).
+  std::vector<std::pair<std::string, std::string>> planned_stages(const Scene &scene);
+
+  // The scene values a stage reads ("stiffness", "dynamics", "sweep", "report").
+  std::string stage_scene_values(const Scene &scene, const std::string &stage);
+
+  // Runs the pipeline of `scene` into `out` and returns what ran; run.json records it too.
+  std::vector<StageOutcome> run_pipeline(const Scene &scene, const std::filesystem::path &out,
+                                         const std::string &command_line,
+                                         const PipelineOptions &options = {});
+
+  // FNV-1a 64 hex of a file's content; throws std::runtime_error when it cannot be read.
+  std::string file_content_hash(const std::filesystem::path &file);
+} // namespace hertzgear

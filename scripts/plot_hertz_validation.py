@@ -1,0 +1,98 @@
+#!/usr/bin/python3
+"""Figures of `hertzgear validate hertz --out DIR`.
+
+    /usr/bin/python3 scripts/plot_hertz_validation.py DIR [FIGURE_DIR]
+
+Reads DIR/hertz_validation.csv and DIR/pressure_profiles.csv and writes to FIGURE_DIR (default
+DIR): hertz_error_vs_dofs.png, hertz_error_vs_time.png (|relative error| of the semi-axes,
+half-width and peak pressure per case against the number of DOFs and against the cumulative wall
+time of the adaptive run) and hertz_pressure_profiles.png (FE nodal pressure against Hertz's
+p0 sqrt(1 - x^2/a^2 - y^2/b^2) along both axes, finest level). Needs matplotlib (Debian's
+/usr/bin/python3 has it).
+"""
+import csv
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+QUANTITIES = ["semi_axis_x", "semi_axis_y", "half_width", "peak_pressure"]
+MARKERS = {"semi_axis_x": "o", "semi_axis_y": "s", "half_width": "^", "peak_pressure": "D"}
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def error_figure(rows, x_key, x_label, out):
+    series = defaultdict(list)
+    for r in rows:
+        if r["quantity"] in QUANTITIES:
+            series[(r["case"], r["quantity"])].append(
+                (float(r[x_key]), abs(float(r["relative_error"]))))
+    cases = sorted({c for c, _ in series})
+    colours = {c: plt.cm.tab10(i % 10) for i, c in enumerate(cases)}
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for (case, q), pts in sorted(series.items()):
+        pts.sort()
+        ax.loglog([p[0] for p in pts], [max(p[1], 1e-6) for p in pts], marker=MARKERS[q],
+                  color=colours[case], label=f"{case}: {q}")
+    ax.axhline(0.02, color="k", ls="--", lw=0.8)
+    ax.text(ax.get_xlim()[0], 0.021, " 2 % acceptance", fontsize=8, va="bottom")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel("|relative error| against the Hertz closed form")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def profile_figure(rows, out):
+    by_case = defaultdict(lambda: defaultdict(list))
+    for r in rows:
+        by_case[r["case"]][r["axis"]].append(
+            (float(r["coordinate_mm"]), float(r["fe_pressure_MPa"]), float(r["hertz_pressure_MPa"])))
+    cases = sorted(by_case)
+    fig, axes = plt.subplots(len(cases), 1, figsize=(7.5, 2.6 * len(cases)), squeeze=False)
+    for ax, case in zip(axes[:, 0], cases):
+        for axis, style in (("x", "C0"), ("y", "C1")):
+            pts = sorted(by_case[case].get(axis, []))
+            if not pts:
+                continue
+            ax.plot([p[0] for p in pts], [p[2] for p in pts], "-", color=style, lw=1,
+                    label=f"Hertz along {axis}")
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], ".", color=style, ms=3,
+                    label=f"FE along {axis}")
+        ax.set_title(case, fontsize=9)
+        ax.set_ylabel("p [MPa]")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("distance from the contact centre [mm]")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) not in (2, 3):
+        sys.exit(__doc__)
+    run_dir = sys.argv[1]
+    fig_dir = sys.argv[2] if len(sys.argv) == 3 else run_dir
+    os.makedirs(fig_dir, exist_ok=True)
+    rows = read_rows(os.path.join(run_dir, "hertz_validation.csv"))
+    error_figure(rows, "dofs", "degrees of freedom (modelled half/quarter)",
+                 os.path.join(fig_dir, "hertz_error_vs_dofs.png"))
+    error_figure(rows, "wall_time_s", "cumulative wall time of the adaptive run [s]",
+                 os.path.join(fig_dir, "hertz_error_vs_time.png"))
+    profile_figure(read_rows(os.path.join(run_dir, "pressure_profiles.csv")),
+                   os.path.join(fig_dir, "hertz_pressure_profiles.png"))
+
+
+if __name__ == "__main__":
+    main()
