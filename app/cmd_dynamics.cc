@@ -491,18 +491,8 @@ namespace hertzgear
       [threads](const CommandContext &ctx) { return run_sweep(ctx, *threads); });
     sweep->add_option("--threads", *threads,
                       "Threads for the sweep jobs (0 = all hardware threads)");
-    // `accuracy` groups the accuracy studies of all stages; create it unless a stage already did.
-    CLI::App *top      = dyn->get_parent();
-    CLI::App *accuracy = nullptr;
-    try
-      {
-        accuracy = top->get_subcommand("accuracy");
-      }
-    catch (const CLI::OptionNotFound &)
-      {
-        accuracy = top->add_subcommand("accuracy", "Work-precision studies: error versus time");
-        accuracy->require_subcommand(1);
-      }
+    CLI::App *accuracy = command_group(*dyn->get_parent(), "accuracy",
+                                       "Work-precision studies: error versus time");
     registry.add_command({"dynamics", "Work-precision table of the dynamics integrators "
                                       "against a reference run at rtol 1e-12"},
                          run_accuracy_dynamics, accuracy);

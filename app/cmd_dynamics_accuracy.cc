@@ -4,6 +4,7 @@
 // when python3 with matplotlib is available, accuracy_dynamics.png.
 #include "app/cmd_dynamics.h"
 #include "app/run_directory.h"
+#include "app/scripts.h"
 #include "common/errors.h"
 #include "common/progress.h"
 
@@ -150,16 +151,8 @@ namespace hertzgear
         dir.finish(timer, {{"stage", "accuracy dynamics"},
                            {"reference", integrator_json(reference.result.stats)},
                            {"reference_rms_dte_um", 1e6 * reference.summary.rms_dte_m}});
-        // The plot is a convenience: its absence (no python3/matplotlib) is not an error.
-        const std::filesystem::path script =
-          std::filesystem::path(HERTZGEAR_SOURCE_DIR) / "scripts" / "plot_accuracy_dynamics.py";
-        // Debian's interpreter carries matplotlib; a python3 earlier on PATH may not.
-        const std::string python  = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-        const std::string command = python + " '" + script.string() + "' '" +
-                                    (dir.path() / "accuracy_dynamics.csv").string() + "' '" +
-                                    (dir.path() / "accuracy_dynamics.png").string() + "'";
-        if (std::filesystem::exists(script) && std::system(command.c_str()) != 0)
-          progress_line("accuracy", "warning: the plot could not be made (" + command + ")");
+        draw_figure("plot_accuracy_dynamics.py", {(dir.path() / "accuracy_dynamics.csv").string(),
+                                                  (dir.path() / "accuracy_dynamics.png").string()});
       }
     if (ctx.out_dir.empty())
       timer.print_summary(progress_stream());

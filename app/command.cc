@@ -23,6 +23,15 @@ namespace hertzgear
     return sub;
   }
 
+  CLI::App *command_group(CLI::App &top, const std::string &name, const std::string &description)
+  {
+    for (CLI::App *sub : top.get_subcommands([&](CLI::App *a) { return a->get_name() == name; }))
+      return sub;
+    CLI::App *group = top.add_subcommand(name, description);
+    group->require_subcommand(1);
+    return group;
+  }
+
   std::function<int()> CommandRegistry::chosen() const
   {
     for (const auto &e : entries)

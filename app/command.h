@@ -55,6 +55,10 @@ namespace hertzgear
     std::vector<Entry> entries;
   };
 
+  // The group command NAME under `top` (e.g. `accuracy`, `validate`), created with DESCRIPTION by
+  // the first stage that registers a command in it; it requires one of its sub-commands.
+  CLI::App *command_group(CLI::App &top, const std::string &name, const std::string &description);
+
   // Registration functions, one per command file.
   void add_scene_commands(CommandRegistry &registry); // check, defaults
   void add_dynamics_commands(CommandRegistry &registry); // dynamics, sweep, accuracy dynamics

@@ -4,6 +4,7 @@
 #include "app/cmd_dynamics.h"
 #include "app/command.h"
 #include "app/run_directory.h"
+#include "app/scripts.h"
 #include "app/stiffness_stage.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
@@ -88,7 +89,33 @@ namespace hertzgear
       return out;
     }
 
-    std::string code_version() { return std::string(version) + " (git " + git_revision + ")"; }
+    // The code that produced an artifact. A clean checkout is named by its version and git
+    // revision; a build from modified sources ("-dirty") or without git ("unknown") keeps that
+    // name through any number of edits, so its executable's content hash is added: a rebuilt
+    // hertzgear then invalidates the cache instead of reusing results of other code.
+    std::string code_version()
+    {
+      static const std::string code = [] {
+        std::string       text = std::string(version) + " (git " + git_revision + ")";
+        const std::string rev  = git_revision;
+        if (rev.find("dirty") != std::string::npos || rev == "unknown" || rev.empty())
+          {
+            std::error_code ec;
+            const fs::path  exe = fs::read_symlink("/proc/self/exe", ec);
+            try
+              {
+                if (!ec)
+                  text += " executable " + file_content_hash(exe);
+              }
+            catch (const std::exception &)
+              {
+                // No readable executable: the name alone (a clean build needs nothing more).
+              }
+          }
+        return text;
+      }();
+      return code;
+    }
 
     fs::path manifest_path(const fs::path &out, const std::string &stage)
     {
@@ -132,7 +159,34 @@ namespace hertzgear
           if (j.value("scene_values", "") != key.scene_values)
             return "scene values it reads changed: " +
                    changed_values(j.value("scene_values", ""), key.scene_values);
-          return "an input artifact changed";
+          // Name the inputs whose content changed (or that are new or gone).
+          std::map<std::string, std::string> before;
+          if (j.contains("inputs") && j.at("inputs").is_object())
+            for (const auto &[name, hash] : j.at("inputs").items())
+              if (hash.is_string())
+                before[name] = hash.get<std::string>();
+          std::vector<std::string> changed;
+          for (const auto &[name, hash] : key.inputs)
+            {
+              const auto it = before.find(name);
+              if (it == before.end())
+                {
+                  changed.push_back(name + " (new)");
+                  continue;
+                }
+              if (it->second != hash)
+                changed.push_back(name);
+              before.erase(it);
+            }
+          for (const auto &[name, hash] : before)
+            changed.push_back(name + " (gone)");
+          std::string list;
+          for (std::size_t i = 0; i < changed.size() && i < 4; ++i)
+            list += (i ? ", " : "") + changed[i];
+          if (changed.size() > 4)
+            list += msg(" and ", changed.size() - 4, " more");
+          return list.empty() ? std::string("an input artifact changed") :
+                                "input changed: " + list;
         }
       for (const auto &a : j.at("artifacts"))
         {
@@ -215,15 +269,17 @@ namespace hertzgear
       return copies;
     }
 
+    // The script the report stage runs (the same lookup as `hertzgear report`), or empty.
     fs::path report_script()
     {
-      if (const char *env = std::getenv("HERTZGEAR_REPORT_SCRIPT"); env && *env)
-        return env;
-#ifdef HERTZGEAR_SOURCE_DIR
-      return fs::path(HERTZGEAR_SOURCE_DIR) / "scripts" / "hertzgear_report.py";
-#else
-      return {};
-#endif
+      try
+        {
+          return find_script("hertzgear_report.py", "HERTZGEAR_REPORT_SCRIPT");
+        }
+      catch (const std::exception &)
+        {
+          return {}; // the report stage itself says what is missing
+        }
     }
   } // namespace
 

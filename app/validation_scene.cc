@@ -83,9 +83,11 @@ namespace hertzgear
                         "contact: the Hertz answer is that of a half-space.",
                         Patterns::Double(1e-6, 1e6));
       prm.add_parameter("half_width_y_mm", v.half_width_y_mm,
-                        "Half-width of the block across y in mm (3D). For finite-cylinder the "
-                        "roller's half-length (the body ends there, flat); for crowned-flank it "
-                        "is taken as half the face width.",
+                        "Half-width of the block across y in mm (3D). For finite-cylinder with "
+                        "roller_half_length_mm = 0 the roller's half-length (the elastic body "
+                        "ends there, flat); with a rigid roller (roller_half_length_mm > 0) the "
+                        "half-width of the raceway under it; for crowned-flank it is taken as "
+                        "half the face width.",
                         Patterns::Double(1e-6, 1e6));
       prm.add_parameter("depth_mm", v.depth_mm,
                         "Depth of the block in mm; its far face is displaced rigidly (the "

@@ -22,7 +22,11 @@ endforeach()
 install(FILES ${HERTZGEAR_VERSION_H} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hertzgear)
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hertzgear)
 if(HERTZGEAR_WITH_FEM)
+  # The report and the figures of the accuracy and validation studies (app/scripts.h).
   install(PROGRAMS ${CMAKE_SOURCE_DIR}/scripts/hertzgear_report.py
+                   ${CMAKE_SOURCE_DIR}/scripts/plot_accuracy_dynamics.py
+                   ${CMAKE_SOURCE_DIR}/scripts/plot_accuracy_stiffness.py
+                   ${CMAKE_SOURCE_DIR}/scripts/plot_hertz_validation.py
           DESTINATION ${CMAKE_INSTALL_DATADIR}/hertzgear/scripts)
 endif()
 

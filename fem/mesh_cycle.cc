@@ -197,6 +197,34 @@ namespace hertzgear::fem
     return ContactSolver(contact_settings).solve(problem);
   }
 
+  namespace
+  {
+    // The vertex value of the separable quadratic through the cell `peak` of block b and its
+    // loaded neighbours along u and z (a direction without two loaded neighbours, or without
+    // curvature, contributes no correction).
+    template <typename Grid, typename Value>
+    double value_at_contact_centre(const Grid &g, const unsigned int b, const unsigned int peak,
+                                   const Eigen::VectorXd &pressure, const Value &value)
+    {
+      const unsigned int n_block = g.n_u * g.n_z;
+      const unsigned int local   = peak - b * n_block;
+      const unsigned int iu = local % g.n_u, iz = local / g.n_u;
+      const double       f0 = value(peak);
+      double             centre = f0;
+      const auto correct = [&](const bool inside, const unsigned int minus, const unsigned int plus) {
+        if (!inside || pressure(minus) <= 0 || pressure(plus) <= 0)
+          return;
+        const double fm = value(minus), fp = value(plus);
+        const double curvature = fm - 2 * f0 + fp;
+        if (curvature < 0)
+          centre -= (fm - fp) * (fm - fp) / (8 * curvature);
+      };
+      correct(iu > 0 && iu + 1 < g.n_u, peak - 1, peak + 1);
+      correct(iz > 0 && iz + 1 < g.n_z, peak - g.n_u, peak + g.n_u);
+      return centre;
+    }
+  } // namespace
+
   PositionResult MeshCycle::solve_position(const double mesh_phase, const double load_N) const
   {
     HG_REQUIRE_INPUT(load_N > 0, "the mesh load must be positive (Operating/torque_Nm > 0), got ",
@@ -242,8 +270,18 @@ namespace hertzgear::fem
         ps.load_share = ps.force_N / load_N;
         if (ps.force_N > 0)
           {
-            ps.peak_pressure_MPa    = sol.pressure(peak);
-            ps.hertz_penetration_mm = local_displacement(peak);
+            // The contact centre lies anywhere inside the peak cell. Inside a Hertz contact both
+            // the local displacement (delta - A u^2 - B z^2) and the squared pressure
+            // (p0^2 (1 - u^2/a^2 - z^2/b^2)) are quadratics with axes along u and z, so the
+            // parabola through the peak cell and its loaded neighbours along each axis gives their
+            // value at the centre exactly; reading the peak cell itself would be up to half a cell
+            // off (3 % low in penetration on the paper's crowned flank at 24 x 16 cells).
+            ps.peak_pressure_MPa =
+              std::sqrt(value_at_contact_centre(g, b, peak, sol.pressure, [&](const unsigned int k) {
+                return sol.pressure(k) * sol.pressure(k);
+              }));
+            ps.hertz_penetration_mm = value_at_contact_centre(
+              g, b, peak, sol.pressure, [&](const unsigned int k) { return local_displacement(k); });
             // Semi-axis across the profile from the force per length of the peak's face column,
             // for an elliptical (Hertz) distribution: F' = pi a p0 / 2.
             const unsigned int iz     = (peak - b * n_block) / g.n_u;

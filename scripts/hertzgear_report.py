@@ -32,7 +32,7 @@ try:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
-    from matplotlib.patches import Ellipse
+    from matplotlib.patches import Ellipse, Rectangle
 except ImportError as missing:
     sys.stderr.write("hertzgear report: error: %s; this interpreter (%s) needs numpy and matplotlib "
                      "(Debian: apt-get install python3-numpy python3-matplotlib), or point "
@@ -443,6 +443,17 @@ def reference_of(values, rel=1e-4):
     return float("%.7g" % mean)
 
 
+def span_limits(values, min_span):
+    """Axis limits that hold the values and span at least min_span (centred on them), or None
+    when the values already span more."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size == 0 or not (min_span > 0) or np.ptp(v) >= min_span:
+        return None
+    centre = 0.5 * (v.min() + v.max())
+    return centre - 0.55 * min_span, centre + 0.55 * min_span
+
+
 def shifted_label(text, unit, ref):
     if not ref:
         return label(text, unit=unit)
@@ -680,7 +691,7 @@ class Report:
         save_figure_atomically(fig, os.path.join(self.out, name))
         self.figures.append(name)
         blocks.append('<figure><img src="%s" alt="%s"><figcaption>%s</figcaption></figure>'
-                      % (html.escape(name), html.escape(re.sub("<[^>]+>", "", caption)[:120]),
+                      % (html.escape(name), html.escape(html.unescape(re.sub("<[^>]+>", "", caption))[:120]),
                          caption))
 
     @staticmethod
@@ -877,6 +888,8 @@ class Report:
                       "peak_pressure_MPa.")
             return
         A, B, P = table[a], table[b], table[p]
+        n_exp = self.scene.hertz_exponent
+        line_contact = n_exp is not None and abs(n_exp - 1.0) < 1e-9
         order = np.argsort(phase)
         n = len(order)
         cols = min(n, 6)
@@ -895,13 +908,21 @@ class Report:
             i = order[k]
             ax.grid(False)
             if A[i] > 0 and B[i] > 0 and np.isfinite(P[i]):
-                r = 1 - (xg / A[i]) ** 2 - (yg / B[i]) ** 2
+                if line_contact:
+                    # Line contact: the Hertz strip p0 √(1 − x²/a²) along the whole contact line.
+                    r = np.where(np.abs(yg) <= B[i], 1 - (xg / A[i]) ** 2, -1.0)
+                else:
+                    r = 1 - (xg / A[i]) ** 2 - (yg / B[i]) ** 2
                 pressure = np.where(r > 0, P[i] * np.sqrt(np.clip(r, 0, None)), np.nan)
                 image = ax.imshow(pressure, extent=(-amax, amax, -bmax, bmax), origin="lower",
                                   aspect="auto", cmap="inferno", vmin=0, vmax=pmax,
                                   interpolation="nearest")
-                ax.add_patch(Ellipse((0, 0), 2 * A[i], 2 * B[i], fill=False, lw=0.8,
-                                     color="#1f5fa8"))
+                if line_contact:
+                    ax.add_patch(Rectangle((-A[i], -B[i]), 2 * A[i], 2 * B[i], fill=False,
+                                           lw=0.8, color="#1f5fa8"))
+                else:
+                    ax.add_patch(Ellipse((0, 0), 2 * A[i], 2 * B[i], fill=False, lw=0.8,
+                                         color="#1f5fa8"))
             else:
                 ax.text(0, 0, "no contact", ha="center", va="center", fontsize=8)
             ax.set_title("phase %.3g" % phase[i], fontsize=9)
@@ -911,11 +932,18 @@ class Report:
             ax.set_ylabel("y, face width (mm)", fontsize=8)
         if image is not None:
             fig.colorbar(image, ax=axes, shrink=0.9, label="contact pressure (MPa)")
+        if line_contact:
+            what = ("Line contact (Hertz exponent n = 1): the Hertz pressure strip p = p<sub>0</sub>"
+                    "√(1 − x²/a²) of half-width a over the contact length 2b")
+        else:
+            what = ("Contact ellipse and Hertzian pressure distribution p = p<sub>0</sub>"
+                    "√(1 − x²/a² − y²/b²)")
         self.figure(blocks, "contact_pressure_map.png", fig,
-                    "Contact ellipse and Hertzian pressure distribution p = p<sub>0</sub>"
-                    "√(1 − x²/a² − y²/b²) at each mesh position, drawn from the semi-axes and peak "
+                    what + " at each mesh position, drawn from the semi-axes and peak "
                     "pressure of stiffness.csv (the largest-loaded pair); all panels share the "
-                    "same axes and colour scale, which are not equal in x and y.")
+                    "same axes and colour scale. The x axis (profile) is stretched against the "
+                    "y axis (face width) by about %.0f× so that the narrow contact stays visible."
+                    % (bmax / amax))
 
     def stiffness_json_table(self, blocks, js):
         rows = []
@@ -985,13 +1013,20 @@ class Report:
         fig, axes = plt.subplots(n_panels, 1, figsize=(10, 2.7 * n_panels + 0.4))
         ref = reference_of(ts[dte])
         b_c = s.b_c_um - ref if s.b_c_um is not None and ref else s.b_c_um
-        x, y = decimate(t, ts[dte] - ref)
-        axes[0].plot(x, y, lw=0.6)
-        mark_backlash(axes[0], b_c, near_data=True)
-        axes[0].set_ylabel(shifted_label("DTE x", unit_of(dte), ref))
+        # The overview keeps both backlash lines in view (unshifted), so that it shows how far
+        # the motion stays from separation (|x| < b_c) and back-side contact (x < −b_c).
+        x, y = decimate(t, ts[dte])
+        axes[0].plot(x, y, lw=0.6, label="DTE")
+        mark_backlash(axes[0], s.b_c_um)
+        if s.b_c_um is not None:
+            axes[0].axhspan(-s.b_c_um, s.b_c_um, color="#bbbbbb", alpha=0.15, lw=0,
+                            label="teeth apart")
+        axes[0].set_ylabel(label("DTE x", dte))
         axes[0].set_xlabel("time (s)")
         axes[0].set_xlim(t[0], t[-1])
-        title_and_legend(axes[0], "DTE x = r$_{b1}$θ$_1$ − r$_{b2}$θ$_2$, whole time series")
+        span = ("the last %.0f mesh periods of the run" % ((t[-1] - t[0]) * s.f_mesh_hz)
+                if s.f_mesh_hz else "the recorded window")
+        title_and_legend(axes[0], "DTE x = r$_{b1}$θ$_1$ − r$_{b2}$θ$_2$, %s" % span, ncol=3)
         ax = axes[1]
         tz = t[zoom]
         shade_contact(ax, tz, cvals[zoom] if cvals is not None else None)
@@ -1013,11 +1048,13 @@ class Report:
             ax.set_xlabel("time (s)")
             title_and_legend(ax, "Hertzian penetration δ, same periods")
         self.figure(blocks, "dte_penetration.png", fig,
-                    "Dynamic transmission error over the whole run (top) and over the last mesh "
-                    "periods (middle), with the Hertzian penetration δ (bottom). Dashed red lines "
-                    "are ±b<sub>c</sub>: for |x| &lt; b<sub>c</sub> the teeth are apart (grey "
-                    "bands), below −b<sub>c</sub> they hit on the back side (red bands). Dotted "
-                    "lines mark mesh periods.")
+                    "Dynamic transmission error over the recorded time series "
+                    "(top, Output/timeseries_periods), over the last mesh periods (middle), with "
+                    "the Hertzian penetration δ (bottom). Dashed red lines are ±b<sub>c</sub>: "
+                    "for |x| &lt; b<sub>c</sub> the teeth are apart (grey), below "
+                    "−b<sub>c</sub> they hit on the back side (red bands). Dotted lines mark "
+                    "mesh periods; the zoomed panels keep their own scale and say when "
+                    "±b<sub>c</sub> lies off it.")
 
     def fig_force(self, blocks, ts):
         t = self._time(ts)
@@ -1104,7 +1141,6 @@ class Report:
         ok = np.isfinite(xs) & (np.isfinite(vs) if vs is not None else True)
         xs, vs = xs[ok], (vs[ok] if vs is not None else None)
         xunit = unit_of(xcol) if xcol else None
-        xref = reference_of(xs)
         n_last = min(16, len(xs))
         period_k = self.scene.flat_summary.get("period_multiplicity")
         if isinstance(period_k, (int, float)) and not isinstance(period_k, bool):
@@ -1113,6 +1149,23 @@ class Report:
         else:
             motion = "%d distinct points" % distinct_points(xs[-n_last:])
             where = "last %d sections" % n_last
+        # The smallest span drawn: a tenth of the steady orbit (the phase portrait), so that the
+        # scatter of a period-1 point at the integrator's tolerance (1e-7 µm) shows as the one
+        # point it is rather than as a cloud blown up to fill the axes.
+        x_span, v_span = 1e-4 * max(1.0, float(np.nanmax(np.abs(xs)))), 0.0
+        if ts is not None and ts.find("time_s", "time", "t_s"):
+            steady = steady_part(self._time(ts), self.scene)
+            xc = ts.find("dte_um", "dte", exclude=("rate",))
+            vc = ts.find("dte_rate", "re:rate|velocity")
+            if xc:
+                x_span = max(x_span, 0.1 * float(np.ptp(ts[xc][steady])))
+            if vc:
+                v_span = 0.1 * float(np.ptp(ts[vc][steady]))
+        if vs is not None and not v_span > 0:
+            v_span = 1e-4 * max(1e-12, float(np.nanmax(np.abs(vs))))
+        xlim = span_limits(xs, x_span)
+        vlim = span_limits(vs, v_span) if vs is not None else None
+        xref = reference_of(np.array(xlim) if xlim else xs)
         xs = xs - xref
         fig, ax = plt.subplots(figsize=(7.4, 4.8))
         if vs is not None:
@@ -1121,21 +1174,37 @@ class Report:
             ax.scatter(xs[-n_last:], vs[-n_last:], s=70, facecolors="none",
                        edgecolors="#c0392b", lw=1.4, zorder=4, label="last %d sections" % n_last)
             fig.colorbar(sc, ax=ax, label="section number (mesh periods)")
+            if xlim:
+                ax.set_xlim(xlim[0] - xref, xlim[1] - xref)
+            if vlim:
+                ax.set_ylim(*vlim)
             b_c = self.scene.b_c_um - xref if self.scene.b_c_um is not None else None
             mark_backlash(ax, b_c, horizontal=False, near_data=True)
             ax.set_xlabel(shifted_label("DTE x at the section", xunit, xref))
             ax.set_ylabel(label("DTE rate ẋ at the section", vcol))
         else:
             ax.scatter(xs[:-1], xs[1:], c=np.arange(len(xs) - 1), cmap="viridis", s=12, zorder=3)
+            if xlim:
+                ax.set_xlim(xlim[0] - xref, xlim[1] - xref)
+                ax.set_ylim(xlim[0] - xref, xlim[1] - xref)
             ax.set_xlabel(shifted_label("x$_k$", xunit, xref))
             ax.set_ylabel(shifted_label("x$_{k+1}$", xunit, xref))
+        ax.ticklabel_format(axis="both", style="plain", useOffset=False)
+        spread = ""
+        if xlim or vlim:
+            spread = (" Here the sections spread over %.2g %s%s only, the integrator's tolerance "
+                      "rather than motion: the axes are widened to a tenth of the steady orbit so "
+                      "that they show as the one point they are."
+                      % (np.ptp(xs), html.escape(xunit or ""),
+                         (" and %.2g %s" % (np.ptp(vs), html.escape(unit_of(vcol) or "")))
+                         if vs is not None else ""))
         title_and_legend(ax, "Poincaré map: %s (%s)" % (motion, where), ncol=3)
         self.figure(blocks, "poincare.png", fig,
                     "Poincaré section: the state sampled once per mesh period (%s). One point is "
                     "period-1 motion, k points period-k, a closed curve quasi-periodic motion, and "
                     "a scattered cloud with structure chaos. Colour runs from the first to the "
                     "last section, so a transient shows as a trail into the final points (circled)."
-                    % html.escape(source))
+                    "%s" % (html.escape(source), spread))
 
     def fig_phase(self, blocks, ts):
         if ts is None:
@@ -1206,13 +1275,20 @@ class Report:
         fscale, funit = (1.0, "N") if fref else (1e3, "kN")
         if loops:
             shown = loops[-12:]
-            cmap = plt.get_cmap("viridis")
+            # Light to dark blue: the last loop, drawn on top, is the darkest, so a steady state
+            # whose loops coincide shows as one dark, readable curve.
+            cmap = plt.get_cmap("Blues")
+            first = len(loops) - len(shown) + 1
             for j, idx in enumerate(shown):
                 closed = np.append(idx, idx[0])
-                ax.plot(P[closed] - pref, (F[closed] - fref) / fscale, lw=1.1,
-                        color=cmap(j / max(1, len(shown) - 1)),
-                        label=("%s %d" % (kind, len(loops) - len(shown) + j + 1))
+                ax.plot(P[closed] - pref, (F[closed] - fref) / fscale, lw=1.2,
+                        color=cmap(0.35 + 0.65 * j / max(1, len(shown) - 1)),
+                        label=("%s %d" % (kind, first + j))
                         if len(shown) <= 6 else None)
+            if len(shown) > 6:
+                ax.text(0.02, 0.96, "%ss %d–%d of the window, later ones darker"
+                        % (kind, first, len(loops)), transform=ax.transAxes, ha="left",
+                        va="top", fontsize=8.5)
         else:
             ax.plot(P - pref, (F - fref) / fscale, lw=1.0)
         ax.set_xlabel(shifted_label("Hertzian penetration δ", unit_of(pen), pref))
@@ -1229,7 +1305,7 @@ class Report:
             energy_text += " summary.json gives %.4g mJ dissipated per impact." % (1e3 * reported)
         self.figure(blocks, "force_penetration.png", fig,
                     "Mesh force against Hertzian penetration (%s), one colour per %s, later ones "
-                    "lighter. Loading runs along the upper branch and unloading along the lower "
+                    "darker. Loading runs along the upper branch and unloading along the lower "
                     "one; the area enclosed by a loop is the energy the contact damping dissipates "
                     "in that %s, and an upward-bending branch is the hardening of "
                     "F = k<sub>h</sub>δ<sup>n</sup> with n &gt; 1.%s"
@@ -1408,17 +1484,22 @@ class Report:
                 m = (groups == g) & (table[time] > 0) & (np.abs(table[err]) > 0)
                 if not m.any():
                     continue
-                order = np.argsort(table[time][m])
+                # Joined in the table's order (its tolerance or step ladder), not by wall time:
+                # timings of cheap runs scatter, and sorting by them would zigzag the line.
+                order = np.arange(int(m.sum()))
                 ax.loglog(table[time][m][order], np.abs(table[err][m][order]), "o-", ms=4,
                           color=COLORS[j % len(COLORS)], label=str(g))
+            name = re.sub(r"_(um|mm|m|s|n)$", "", err).replace("_", " ")
+            name = name.replace("poincare", "Poincaré").replace("rms dte", "RMS DTE")
             ax.set_xlabel(label("wall time", time))
-            ax.set_ylabel(label(err.replace("_", " "), err))
-            ax.set_title(err.replace("_", " "))
+            ax.set_ylabel(label(name, err))
+            ax.set_title(name[:1].upper() + name[1:])
             if ax.get_legend_handles_labels()[0]:
                 ax.legend(loc="best")
         name = "accuracy_%d.png" % (index + 1)
         self.figure(blocks, name, fig,
-                    "Work–precision diagram from %s: error against wall time, log–log. Lower left "
+                    "Work–precision diagram from %s: error against wall time, log–log, each method's "
+                    "points joined in the order of its tolerance (or step) ladder. Lower left "
                     "is better; at a given error, the leftmost method is the cheapest."
                     % html.escape(rel))
 
@@ -1600,6 +1681,31 @@ def key_results(report):
     return '<div class="cards">%s</div>' % "".join(cards) if cards else ""
 
 
+def pipeline_table(run):
+    """The stages of `hertzgear run` (run.json "pipeline"): whether each ran, and why."""
+    stages = run.get("pipeline") if isinstance(run, dict) else None
+    if not isinstance(stages, list) or not stages:
+        return ""
+    rows = []
+    for st in stages:
+        if not isinstance(st, dict):
+            continue
+        wall = st.get("wall_time_s")
+        rows.append("<tr><td class=\"key\">%s</td><td>%s</td><td>%s</td>"
+                    "<td class=\"val\">%s</td></tr>"
+                    % (html.escape(str(st.get("stage", ""))),
+                       "ran" if st.get("ran") else "reused",
+                       html.escape(str(st.get("reason", ""))),
+                       html.escape("%.3g s" % wall) if isinstance(wall, (int, float)) else ""))
+    if not rows:
+        return ""
+    return ("<details class=\"pipeline\" open><summary>Stages of this run (the "
+            "<code>hertzgear run</code> that wrote this page): which ran, and why</summary>"
+            "<table class=\"prm\"><thead><tr><th>stage</th><th>ran?</th><th>why</th>"
+            "<th>wall time</th></tr></thead><tbody>%s</tbody></table></details>"
+            % "".join(rows))
+
+
 def render_page(report):
     art = report.art
     run = art.get("run.json") or {}
@@ -1641,12 +1747,13 @@ def render_page(report):
 %s
 %s
 %s
+%s
 </main>
 <footer>Written by hertzgear report. Figures: matplotlib %s.</footer>
 </body>
 </html>
 """ % (html.escape(title), CSS, html.escape(title), " · ".join(meta), nav, found,
-       key_results(report), notes, body, matplotlib.__version__)
+       key_results(report), pipeline_table(run), notes, body, matplotlib.__version__)
 
 
 def remove_stale_temporaries(directory, age_s=600):

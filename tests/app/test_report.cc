@@ -296,5 +296,12 @@ TEST(Report, RunOutputRendersInHeadlessChromium)
     " --set Sweep/transient_periods_per_point=20 --set Sweep/mode=independent --out " + quoted(dir));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(fs::exists(dir / "report" / "index.html"));
+  // The page of a run says which stages ran and why (from run.json).
+  const std::string html = slurp(dir / "report" / "index.html");
+  EXPECT_THAT(html, HasSubstr("Stages of this run"));
+  EXPECT_THAT(html, HasSubstr("no cached result"));
+  for (const char *figure : {"stiffness_cycle.png", "dte_penetration.png", "poincare.png",
+                             "force_penetration.png", "sweep_rms.png", "bifurcation.png"})
+    EXPECT_THAT(html, HasSubstr(figure)) << figure;
   expect_report_renders_in_chromium(dir, 10);
 }

@@ -131,6 +131,20 @@ TEST(Run, TableSourceRunsOnlyDynamicsAndSweepAddsTheSweep)
     << "the run directory keeps a copy of the table that drove the dynamics";
   EXPECT_TRUE(fs::exists(dir / "sweep.csv"));
   EXPECT_THAT(r.err, HasSubstr("no meshing, no FE"));
+
+  // The table is an input of the dynamics and the sweep: a new table (less crowning) reruns both,
+  // and the reason names the table.
+  run_small(first, "--set \"Gear pair/Pinion/crowning_um=40\"");
+  const auto again = run_hertzgear(
+    "run " + scene_path("paper_crowned.prm") +
+    " --set Stiffness/source=table --set " + quoted(fs::path("Stiffness/table_file=" + (first / "stiffness.json").string())) +
+    " --set Dynamics/periods=60 --set Dynamics/transient_periods=30 --set Output/report=false"
+    " --set Sweep/enabled=true --set Sweep/points=3 --set Sweep/speed_min_rpm=100"
+    " --set Sweep/speed_max_rpm=200 --set Sweep/periods_per_point=40"
+    " --set Sweep/transient_periods_per_point=20 --set Sweep/mode=independent --out " + quoted(dir));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(stages_that_ran(dir), (std::map<std::string, bool>{{"dynamics", true}, {"sweep", true}}));
+  EXPECT_THAT(again.err, HasSubstr("dynamics: runs (input changed: " + (first / "stiffness.json").string()));
 }
 
 TEST(Run, TruncatedOrCorruptArtifactIsRebuilt)
