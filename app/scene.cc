@@ -422,30 +422,6 @@ namespace hertzgear
       s.leave();
     }
 
-    // deal.II's exception texts start with a source location meant for developers; users get
-    // the "Additional information" part only.
-    std::string user_message(const dealii::ExceptionBase &e)
-    {
-      std::ostringstream os;
-      e.print_info(os);
-      std::string text = os.str();
-      // collapse deal.II's indentation into single spaces
-      std::string out;
-      bool        space = false;
-      for (const char c : text)
-        {
-          if (c == '\n' || c == ' ' || c == '\t')
-            space = !out.empty();
-          else
-            {
-              if (space)
-                out += ' ';
-              out += c;
-              space = false;
-            }
-        }
-      return out;
-    }
 
     void apply_override(SceneSchema &schema, const std::string &text)
     {
@@ -621,6 +597,31 @@ namespace hertzgear
       return os.str();
     }
   } // namespace
+
+  // deal.II's exception texts start with a source location meant for developers; users get
+  // the "Additional information" part only.
+  std::string user_message(const dealii::ExceptionBase &e)
+  {
+    std::ostringstream os;
+    e.print_info(os);
+    std::string text = os.str();
+    // collapse deal.II's indentation into single spaces
+    std::string out;
+    bool        space = false;
+    for (const char c : text)
+      {
+        if (c == '\n' || c == ' ' || c == '\t')
+          space = !out.empty();
+        else
+          {
+            if (space)
+              out += ' ';
+            out += c;
+            space = false;
+          }
+      }
+    return out;
+  }
 
   Scene load_scene(const fs::path &file, const std::vector<std::string> &overrides)
   {

@@ -1,10 +1,16 @@
 #pragma once
 // The scene: every value a user may set, in the units gear engineers use (unit in the name),
 // resolved into plain structs. Parsing, range checks and help texts live in scene.cc (deal.II
-// ParameterHandler); nothing below depends on deal.II, so stages take plain values.
+// ParameterHandler); nothing below needs deal.II headers (one message helper takes a forward-declared
+// deal.II exception), so stages take plain values.
 #include <filesystem>
 #include <string>
 #include <vector>
+
+namespace dealii
+{
+  class ExceptionBase;
+}
 
 namespace hertzgear
 {
@@ -156,6 +162,10 @@ namespace hertzgear
   // Read a scene (.prm or .json; an empty path gives the built-in defaults), apply overrides in
   // order, check ranges and cross-field consistency. Throws InputError naming the file, line and
   // key for anything wrong.
+  // The "additional information" of a deal.II exception (ParameterHandler's messages) on one
+  // line, without the source location meant for developers.
+  std::string user_message(const dealii::ExceptionBase &e);
+
   Scene load_scene(const std::filesystem::path &file, const std::vector<std::string> &overrides = {});
 
   // The documented default scene in .prm form (what `hertzgear defaults` prints).

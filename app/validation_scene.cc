@@ -2,6 +2,7 @@
 // the key name (or is a count or a dimensionless coefficient, said in the help), a range pattern
 // and a help text.
 #include "app/validation_scene.h"
+#include "app/scene.h"
 
 #include "common/errors.h"
 
@@ -19,25 +20,6 @@ namespace hertzgear
 
   namespace
   {
-    std::string one_line(const dealii::ExceptionBase &e)
-    {
-      std::ostringstream os;
-      e.print_info(os);
-      std::string out;
-      bool        space = false;
-      for (const char c : os.str())
-        if (c == '\n' || c == ' ' || c == '\t')
-          space = !out.empty();
-        else
-          {
-            if (space)
-              out += ' ';
-            out += c;
-            space = false;
-          }
-      return out;
-    }
-
     void declare(ParameterHandler &prm, ValidationScene &v, std::string &depths)
     {
       prm.enter_subsection("Case");
@@ -164,7 +146,7 @@ namespace hertzgear
           for (unsigned int i = 0; i < entered; ++i)
             prm.leave_subsection();
           throw InputError(msg("--set \"", text, "\": unknown key or value not allowed for ",
-                               section, "/", key, " = \"", value, "\" (", one_line(e), ")"));
+                               section, "/", key, " = \"", value, "\" (", user_message(e), ")"));
         }
       for (unsigned int i = 0; i < entered; ++i)
         prm.leave_subsection();
@@ -203,7 +185,7 @@ namespace hertzgear
       }
     catch (const dealii::ExceptionBase &e)
       {
-        throw InputError(msg("validation scene ", file.string(), ": ", one_line(e)));
+        throw InputError(msg("validation scene ", file.string(), ": ", user_message(e)));
       }
     for (const auto &o : overrides)
       apply_override(prm, o);
