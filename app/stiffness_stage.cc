@@ -136,6 +136,9 @@ namespace hertzgear
         p.fe_degree           = scene.stiffness.fe_degree;
         p.mapping_degree      = 1; // gmsh's straight-sided cells: no curved manifold attached
         p.clamped_boundary_id = bore_id;
+        p.linear_solver =
+          fem::ElasticBody<dim>::parse_linear_solver(scene.stiffness.linear_solver);
+        p.linear_solver_tolerance = scene.stiffness.linear_solver_tolerance;
         body = std::make_unique<fem::ElasticBody<dim>>(triangulation, p);
         std::set<dealii::types::boundary_id> flanks;
         for (const int t : teeth)
@@ -485,6 +488,9 @@ namespace hertzgear
     result.metadata["dimension"]              = dim;
     result.metadata["fe_level"]               = scene.stiffness.fe_level;
     result.metadata["fe_degree"]              = scene.stiffness.fe_degree;
+    result.metadata["linear_solver"]          = scene.stiffness.linear_solver;
+    if (scene.stiffness.linear_solver != "direct")
+      result.metadata["linear_solver_tolerance"] = scene.stiffness.linear_solver_tolerance;
     result.metadata["dofs"]                   = n_dofs_total;
     result.metadata["reference_depth_mm"]     = table.reference_depth_mm;
     result.metadata["load_patch_radius_mm"]   = table.patch_radius_mm;

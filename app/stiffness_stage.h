@@ -3,9 +3,9 @@
 // tables -> loaded TCA over the mesh cycle -> stiffness table (the contract with dynamics).
 //
 // MPI: collective over MPI_COMM_WORLD. Rank 0 meshes; every rank reads the meshes into a
-// parallel::shared triangulation, so assembly and the MUMPS factorisation and substitutions are
-// distributed; the compliance tables and the contact solves are replicated, so every rank returns
-// the same result. Only rank 0 should write result files.
+// parallel::shared triangulation, so assembly, the solver setup (MUMPS factorisation or AMG
+// hierarchy, Stiffness/linear_solver) and the solves are distributed; the compliance tables and
+// the contact solves are replicated, so every rank returns the same result. Only rank 0 should write result files.
 #include "app/scene.h"
 #include "common/progress.h"
 #include "dynamics/stiffness_table.h"

@@ -50,18 +50,37 @@ namespace hertzgear
         }
     }
 
-    // One KSP of type PREONLY with an LU preconditioner factorised by MUMPS: KSPSolve after the
-    // first only runs the substitutions.
+    // The KSP reused for every right-hand side: PREONLY + LU (MUMPS) holding the factors, or CG
+    // + GAMG holding the AMG hierarchy (and the near-null space it was built from).
     template <int dim>
     struct ElasticBody<dim>::Factorisation
     {
-      KSP ksp = nullptr;
+      KSP          ksp            = nullptr;
+      MatNullSpace near_nullspace = nullptr;
       ~Factorisation()
       {
         if (ksp != nullptr)
           KSPDestroy(&ksp);
+        if (near_nullspace != nullptr)
+          MatNullSpaceDestroy(&near_nullspace);
       }
     };
+
+    template <int dim>
+    typename ElasticBody<dim>::LinearSolver ElasticBody<dim>::parse_linear_solver(const std::string &name)
+    {
+      if (name == "direct")
+        return LinearSolver::direct;
+      if (name == "amg-cg")
+        return LinearSolver::amg_cg;
+      throw InputError(msg("unknown linear solver '", name, "' (direct or amg-cg)"));
+    }
+
+    template <int dim>
+    std::string ElasticBody<dim>::linear_solver_name(const LinearSolver solver)
+    {
+      return solver == LinearSolver::direct ? "direct" : "amg-cg";
+    }
 
     template <int dim>
     ElasticBody<dim>::ElasticBody(const Triangulation<dim> &triangulation,
@@ -79,6 +98,13 @@ namespace hertzgear
                        "Poisson ratio must lie in (-1, 0.5), got ", parameters.poisson_ratio);
       HG_REQUIRE_INPUT(parameters.fe_degree >= 1 && parameters.mapping_degree >= 1,
                        "FE and mapping degrees must be at least 1");
+      HG_REQUIRE_INPUT(parameters.linear_solver == LinearSolver::direct ||
+                         (parameters.linear_solver_tolerance > 0 &&
+                          parameters.linear_solver_tolerance < 1 &&
+                          parameters.linear_solver_max_iterations >= 1),
+                       "the amg-cg solver needs a tolerance in (0, 1) and at least one iteration, "
+                       "got tolerance ", parameters.linear_solver_tolerance, " and ",
+                       parameters.linear_solver_max_iterations, " iterations");
     }
 
     template <int dim>
@@ -89,7 +115,7 @@ namespace hertzgear
     {
       setup_system();
       assemble_system();
-      factorise();
+      setup_solver();
     }
 
     template <int dim>
@@ -126,7 +152,7 @@ namespace hertzgear
                                                parameters.clamped_boundary_id,
                                                Functions::ZeroFunction<dim>(dim), constraints);
       constraints.close();
-      // A body that is not clamped anywhere is singular: say so instead of letting MUMPS fail.
+      // A body that is not clamped anywhere is singular: say so instead of letting the solver fail.
       const unsigned int n_constrained =
         Utilities::MPI::sum(static_cast<unsigned int>(constraints.n_constraints()), mpi_communicator);
       HG_REQUIRE_INPUT(n_constrained > 0, "no face carries the clamped boundary id ",
@@ -187,10 +213,19 @@ namespace hertzgear
     }
 
     template <int dim>
-    void ElasticBody<dim>::factorise()
+    void ElasticBody<dim>::setup_solver()
     {
       factorisation = std::make_unique<Factorisation>();
-      KSP &ksp      = factorisation->ksp;
+      if (parameters.linear_solver == LinearSolver::direct)
+        setup_direct();
+      else
+        setup_amg_cg();
+    }
+
+    template <int dim>
+    void ElasticBody<dim>::setup_direct()
+    {
+      KSP &ksp = factorisation->ksp;
       check_petsc(KSPCreate(mpi_communicator, &ksp), "KSPCreate");
       const Mat A = system_matrix;
       check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
@@ -206,6 +241,144 @@ namespace hertzgear
       check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
     }
 
+    // CG on the SPD stiffness matrix, preconditioned by PETSc's smoothed-aggregation AMG. The
+    // aggregation needs the near-null space of the unclamped operator, the rigid-body modes
+    // (dim translations, dim (dim - 1) / 2 rotations), to build coarse spaces that represent them;
+    // without it GAMG would only preserve constants per scalar unknown and CG would converge slowly.
+    template <int dim>
+    void ElasticBody<dim>::setup_amg_cg()
+    {
+      const Mat A = system_matrix;
+
+      // Support point and component of every locally owned DoF (every DoF of a vector FE_Q system
+      // has a support point; owned DoFs all lie on locally owned cells).
+      const std::size_t             n_owned = locally_owned_dofs.n_elements();
+      const types::global_dof_index first   = n_owned > 0 ? locally_owned_dofs.nth_index_in_set(0) : 0;
+      HG_REQUIRE_NUMERIC(n_owned == 0 || locally_owned_dofs.is_contiguous(),
+                         "amg-cg: the locally owned DoFs are not a contiguous range");
+      std::vector<Point<dim>>   support(n_owned);
+      std::vector<unsigned char> component(n_owned, 0xff);
+      {
+        const Quadrature<dim> at_support(fe.get_unit_support_points());
+        FEValues<dim>         fe_values(mapping, fe, at_support, update_quadrature_points);
+        std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              fe_values.reinit(cell);
+              cell->get_dof_indices(dofs);
+              for (unsigned int i = 0; i < dofs.size(); ++i)
+                if (locally_owned_dofs.is_element(dofs[i]))
+                  {
+                    const std::size_t k = dofs[i] - first;
+                    support[k]          = fe_values.quadrature_point(i);
+                    component[k]        = fe.system_to_component_index(i).first;
+                  }
+            }
+      }
+      for (std::size_t k = 0; k < n_owned; ++k)
+        HG_REQUIRE_NUMERIC(component[k] < dim, "amg-cg: locally owned DoF ", first + k,
+                           " lies on no locally owned cell");
+
+      // Node-blocked numbering (the dim DoFs of a support point consecutive, in component order,
+      // as deal.II numbers FE_Q^dim systems of degree <= 2)? Then the matrix gets block size dim
+      // (GAMG aggregates nodes, not scalar unknowns) and PETSc builds the rigid-body modes from
+      // the interleaved coordinates. Otherwise (e.g. degree >= 3, whose line DoFs are numbered
+      // component by component) the modes are built here DoF by DoF.
+      bool node_blocked = (first % dim == 0) && (n_owned % dim == 0);
+      for (std::size_t k = 0; node_blocked && k < n_owned; ++k)
+        node_blocked = component[k] == k % dim &&
+                       support[k].distance(support[k - k % dim]) <=
+                         1e-12 * (1.0 + support[k].norm());
+      node_blocked = Utilities::MPI::min(node_blocked ? 1 : 0, mpi_communicator) == 1;
+
+      MatNullSpace &nullspace = factorisation->near_nullspace;
+      if (node_blocked)
+        {
+          check_petsc(MatSetBlockSize(A, dim), "MatSetBlockSize");
+          Vec coordinates;
+          check_petsc(VecCreateMPI(mpi_communicator, n_owned, PETSC_DETERMINE, &coordinates),
+                      "VecCreateMPI");
+          check_petsc(VecSetBlockSize(coordinates, dim), "VecSetBlockSize");
+          PetscScalar *x;
+          check_petsc(VecGetArray(coordinates, &x), "VecGetArray");
+          for (std::size_t k = 0; k < n_owned; ++k)
+            x[k] = support[k][component[k]];
+          check_petsc(VecRestoreArray(coordinates, &x), "VecRestoreArray");
+          check_petsc(MatNullSpaceCreateRigidBody(coordinates, &nullspace),
+                      "MatNullSpaceCreateRigidBody");
+          check_petsc(VecDestroy(&coordinates), "VecDestroy");
+        }
+      else
+        {
+          // Rigid-body modes at each DoF: translation e_c, rotation about axis a (3D) or z (2D)
+          // of value (omega x x)_c. Orthonormalised (modified Gram-Schmidt) as
+          // MatNullSpaceCreate requires.
+          const unsigned int n_modes = dim == 2 ? 3 : 6;
+          std::vector<Vec>   modes(n_modes);
+          for (unsigned int m = 0; m < n_modes; ++m)
+            {
+              check_petsc(VecCreateMPI(mpi_communicator, n_owned, PETSC_DETERMINE, &modes[m]),
+                          "VecCreateMPI");
+              PetscScalar *v;
+              check_petsc(VecGetArray(modes[m], &v), "VecGetArray");
+              for (std::size_t k = 0; k < n_owned; ++k)
+                {
+                  const unsigned int c = component[k];
+                  const Point<dim> & x = support[k];
+                  double             value;
+                  if (m < dim)
+                    value = (c == m) ? 1.0 : 0.0;
+                  else
+                    {
+                      Tensor<1, 3> omega, position, rotation;
+                      omega[dim == 2 ? 2 : m - dim] = 1.0;
+                      for (unsigned int d = 0; d < dim; ++d)
+                        position[d] = x[d];
+                      rotation = cross_product_3d(omega, position);
+                      value    = rotation[c];
+                    }
+                  v[k] = value;
+                }
+              check_petsc(VecRestoreArray(modes[m], &v), "VecRestoreArray");
+              for (unsigned int n = 0; n < m; ++n)
+                {
+                  PetscScalar dot;
+                  check_petsc(VecDot(modes[m], modes[n], &dot), "VecDot");
+                  check_petsc(VecAXPY(modes[m], -dot, modes[n]), "VecAXPY");
+                }
+              PetscReal norm;
+              check_petsc(VecNormalize(modes[m], &norm), "VecNormalize");
+              HG_REQUIRE_NUMERIC(norm > 0, "amg-cg: rigid-body mode ", m, " is degenerate");
+            }
+          check_petsc(MatNullSpaceCreate(mpi_communicator, PETSC_FALSE, n_modes, modes.data(),
+                                         &nullspace),
+                      "MatNullSpaceCreate");
+          for (auto &v : modes)
+            check_petsc(VecDestroy(&v), "VecDestroy");
+        }
+      // A near-null space only guides the AMG; the operator itself is regular (clamped).
+      check_petsc(MatSetNearNullSpace(A, nullspace), "MatSetNearNullSpace");
+
+      KSP &ksp = factorisation->ksp;
+      check_petsc(KSPCreate(mpi_communicator, &ksp), "KSPCreate");
+      check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+      check_petsc(KSPSetType(ksp, KSPCG), "KSPSetType");
+      // The tolerance is on the true residual ||b - K u|| / ||b||, not the preconditioned one, so
+      // that it bounds the compliance error (see patch_load_vector).
+      check_petsc(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+      check_petsc(KSPSetTolerances(ksp, parameters.linear_solver_tolerance, PETSC_DEFAULT,
+                                   PETSC_DEFAULT, parameters.linear_solver_max_iterations),
+                  "KSPSetTolerances");
+      PC pc;
+      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+      check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
+      // PETSC_OPTIONS tunes the solve, e.g. "-pc_gamg_threshold 0.02 -ksp_monitor".
+      check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+      // KSPSetUp builds the AMG hierarchy now, once; every solve reuses it.
+      check_petsc(KSPSetUp(ksp), "KSPSetUp (GAMG hierarchy)");
+    }
+
     template <int dim>
     typename ElasticBody<dim>::VectorType ElasticBody<dim>::solve(VectorType &rhs) const
     {
@@ -214,8 +387,29 @@ namespace hertzgear
       check_petsc(KSPSolve(factorisation->ksp, rhs, solution), "KSPSolve");
       KSPConvergedReason reason;
       check_petsc(KSPGetConvergedReason(factorisation->ksp, &reason), "KSPGetConvergedReason");
-      HG_REQUIRE_NUMERIC(reason >= 0, "the MUMPS substitution failed (KSP reason ",
-                         static_cast<int>(reason), ")");
+      if (parameters.linear_solver == LinearSolver::direct)
+        HG_REQUIRE_NUMERIC(reason >= 0, "the MUMPS substitution failed (KSP reason ",
+                           static_cast<int>(reason), ")");
+      else if (reason < 0)
+        {
+          PetscInt  iterations = 0;
+          PetscReal residual   = 0;
+          KSPGetIterationNumber(factorisation->ksp, &iterations);
+          KSPGetResidualNorm(factorisation->ksp, &residual);
+          const double rhs_norm = rhs.l2_norm();
+          PetscReal    rtol = 0, abstol = 0, dtol = 0;
+          PetscInt     max_iterations = 0;
+          KSPGetTolerances(factorisation->ksp, &rtol, &abstol, &dtol, &max_iterations);
+          throw NumericalError(msg(
+            "the amg-cg solve of the elastic body (", n_dofs(), " DOFs) did not converge: KSP reason ",
+            KSPConvergedReasons[reason], " (", static_cast<int>(reason), ") after ", iterations,
+            " CG iterations (cap ", max_iterations, "), relative residual ",
+            rhs_norm > 0 ? residual / rhs_norm : residual, " against the tolerance ", rtol,
+            ". Loosen the tolerance (Stiffness/linear_solver_tolerance) if it is below what the "
+            "round-off allows (about 1e-12), raise the iteration cap or tune the AMG through "
+            "PETSC_OPTIONS (e.g. -ksp_max_it, -pc_gamg_threshold), or use the direct solver "
+            "(Stiffness/linear_solver = direct) if memory allows."));
+        }
       constraints.distribute(solution);
       // Return a ghosted copy: point evaluation and error integration read neighbour values.
       VectorType ghosted(locally_owned_dofs, locally_relevant_dofs, mpi_communicator);
@@ -329,6 +523,14 @@ namespace hertzgear
             total.add(forces[k] / area, f);
           }
       return solve(total);
+    }
+
+    template <int dim>
+    typename ElasticBody<dim>::VectorType ElasticBody<dim>::patch_load_vector(const PatchLoad &load) const
+    {
+      auto [rhs, area] = assemble_patch_rhs(load);
+      rhs /= area;
+      return std::move(rhs);
     }
 
     template <int dim>

@@ -1,12 +1,18 @@
 #pragma once
 // Linear elastic body (deal.II, PETSc, MPI): the global part of the gear compliance.
 //
-// The body is assembled once and factorised once (MUMPS LU through PETSc); every further load case
-// is one forward/backward substitution. That reuse is what makes the hybrid contact method
-// affordable: the TCA needs the displacement field of a unit load at every contact-grid point.
+// The body is assembled once and its solver set up once; every further load case reuses it. Two
+// solvers (Parameters::linear_solver):
+//   direct  MUMPS LU through PETSc, factorised once; each load case is one forward/backward
+//           substitution (exact to round-off; memory grows fast with the DOFs in 3D).
+//   amg_cg  PETSc CG preconditioned by smoothed-aggregation AMG (PCGAMG) with the rigid-body
+//           modes as near-null space; the AMG hierarchy is built once and reused, each load case
+//           is one CG solve to the relative residual linear_solver_tolerance (memory ~ the matrix).
+// That reuse is what makes the hybrid contact method affordable: the TCA needs the displacement
+// field of a unit load at every contact-grid point.
 //
 //   ElasticBody<2> body(triangulation, parameters);   // plane strain in 2D
-//   body.run();                                       // setup_system, assemble_system, factorise
+//   body.run();                                       // setup_system, assemble_system, setup_solver
 //   const auto C = body.compliance(loads, readings);  // C(r, l) = u_l(point_r) . direction_r
 //
 // Inputs before outputs, SI or any consistent unit system (the class never converts units).
@@ -58,6 +64,12 @@ namespace hertzgear
       using VectorType = dealii::PETScWrappers::MPI::Vector;
       using MatrixType = dealii::PETScWrappers::MPI::SparseMatrix;
 
+      enum class LinearSolver
+      {
+        direct, // MUMPS LU, factorised once
+        amg_cg  // CG + PCGAMG (rigid-body near-null space), hierarchy built once
+      };
+
       struct Parameters
       {
         double                      youngs_modulus = 206.0e9; // Pa (or MPa with mm)
@@ -65,7 +77,18 @@ namespace hertzgear
         unsigned int                fe_degree      = 2;       // FE_Q degree of each component
         unsigned int                mapping_degree = 2;       // MappingQ degree (curved boundaries)
         dealii::types::boundary_id  clamped_boundary_id = 0;  // the bore
+        LinearSolver                linear_solver  = LinearSolver::direct;
+        // amg_cg only: a solve stops when ||b - K u||_2 <= linear_solver_tolerance ||b||_2
+        // (unpreconditioned residual, zero initial guess) and is a NumericalError if that takes
+        // more than linear_solver_max_iterations CG iterations. PETSC_OPTIONS (-ksp_*, -pc_gamg_*)
+        // can override both and tune the AMG.
+        double                      linear_solver_tolerance      = 1.0e-10;
+        unsigned int                linear_solver_max_iterations = 2000;
       };
+
+      // "direct" / "amg-cg" (the scene's spelling) <-> LinearSolver; InputError for anything else.
+      static LinearSolver       parse_linear_solver(const std::string &name);
+      static std::string        linear_solver_name(const LinearSolver solver);
 
       // A unit force along `direction` spread over the boundary within `radius` of `centre`
       // with the smooth weight (1 - (r/radius)^2)^2, so that the load is a traction whose
@@ -95,7 +118,7 @@ namespace hertzgear
       ElasticBody(const ElasticBody &) = delete;
       ElasticBody &operator=(const ElasticBody &) = delete;
 
-      // setup_system, assemble_system, factorise: afterwards any number of load cases.
+      // setup_system, assemble_system, setup_solver: afterwards any number of load cases.
       void run();
 
       // Patch loads may be restricted to boundary faces with these ids (empty: any boundary face
@@ -105,6 +128,10 @@ namespace hertzgear
       // Displacement field of a traction on boundary part `boundary_id`.
       VectorType solve_traction(const dealii::types::boundary_id boundary_id,
                                 const TractionFunction &         traction) const;
+      // Load vector of one patch load scaled to a unit resultant (what solve_patch_load solves
+      // for; not ghosted). Lets callers bound solver errors: |f_i . (u_j - u_j,exact)| <=
+      // ||u_i|| ||b_j - K u_j|| <= linear_solver_tolerance ||u_i|| ||f_j|| for amg_cg.
+      VectorType patch_load_vector(const PatchLoad &load) const;
       // Displacement field of one patch load.
       VectorType solve_patch_load(const PatchLoad &load) const;
       // Displacement field of several patch loads at once, patch k carrying the force
@@ -122,7 +149,9 @@ namespace hertzgear
                                             const std::vector<PointReading> &readings) const;
 
       // C(i, j) = work of patch traction i on the displacement of patch load j: symmetric by
-      // Maxwell-Betti up to the solver's round-off (the discrete K^-1 is symmetric).
+      // Maxwell-Betti (the discrete K^-1 is symmetric) up to the solver error: round-off for the
+      // direct solver, but only to the solver tolerance for amg_cg (|C_ij - C_ji| <=
+      // tol (||u_i|| ||f_j|| + ||u_j|| ||f_i||), see patch_load_vector).
       dealii::FullMatrix<double> patch_compliance(const std::vector<PatchLoad> &loads) const;
 
       // ||u_h - u||_L2 over the body (collective).
@@ -137,7 +166,11 @@ namespace hertzgear
     private:
       void setup_system();
       void assemble_system();
-      void factorise();
+      // direct: MUMPS factorisation; amg_cg: KSPCG + PCGAMG with the rigid-body near-null space
+      // and the AMG hierarchy built (KSPSetUp). Once per body.
+      void setup_solver();
+      void setup_direct();
+      void setup_amg_cg();
 
       VectorType solve(VectorType &rhs) const;
       // Load vector of a patch (not yet divided by the patch area) and the weighted patch area.
@@ -159,7 +192,8 @@ namespace hertzgear
 
       std::set<dealii::types::boundary_id> load_boundary_ids;
 
-      // The PETSc KSP that holds the MUMPS factors (opaque here to keep petsc headers out).
+      // The PETSc KSP that holds the MUMPS factors or the AMG hierarchy (opaque here to keep petsc
+      // headers out).
       struct Factorisation;
       std::unique_ptr<Factorisation> factorisation;
     };
