@@ -1,4 +1,5 @@
 #include "fem/elastic_body.h"
+#include "fem/petsc_ksp.h"
 
 #include "common/errors.h"
 
@@ -24,14 +25,6 @@ namespace hertzgear
   namespace fem
   {
     using namespace dealii;
-
-    namespace
-    {
-      void check_petsc(const PetscErrorCode ierr, const char *what)
-      {
-        HG_REQUIRE_NUMERIC(ierr == 0, "PETSc call ", what, " failed with error code ", ierr);
-      }
-    } // namespace
 
     template <int dim>
     void read_gmsh_mesh(const std::string &filename, Triangulation<dim> &triangulation)
@@ -225,20 +218,7 @@ namespace hertzgear
     template <int dim>
     void ElasticBody<dim>::setup_direct()
     {
-      KSP &ksp = factorisation->ksp;
-      check_petsc(KSPCreate(mpi_communicator, &ksp), "KSPCreate");
-      const Mat A = system_matrix;
-      check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-      check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-      PC pc;
-      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-      check_petsc(PCSetType(pc, PCLU), "PCSetType");
-      check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-      // MUMPS controls (ordering, memory) stay tunable through PETSC_OPTIONS, e.g.
-      // "-mat_mumps_icntl_7 5" for METIS ordering.
-      check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
-      // KSPSetUp runs the symbolic and numeric factorisation now, once.
-      check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
+      create_mumps_lu(factorisation->ksp, system_matrix, mpi_communicator);
     }
 
     // CG on the SPD stiffness matrix, preconditioned by PETSc's smoothed-aggregation AMG. The

@@ -2,6 +2,7 @@
 // refinement. See fem/resolved_contact.h for the model and docs/validation-hertz.md for the
 // method and the measured accuracy.
 #include "fem/resolved_contact.h"
+#include "fem/petsc_ksp.h"
 
 #include "common/errors.h"
 
@@ -48,11 +49,6 @@ namespace hertzgear
       using VectorType = PETScWrappers::MPI::Vector;
       using MatrixType = PETScWrappers::MPI::SparseMatrix;
 
-      void check_petsc(const PetscErrorCode ierr, const char *what)
-      {
-        HG_REQUIRE_NUMERIC(ierr == 0, "PETSc call ", what, " failed with error code ", ierr);
-      }
-
       // MUMPS LU of one matrix through a PETSc KSP (PREONLY + PCLU): factorised once in KSPSetUp,
       // then one substitution per right-hand side.
       class MumpsFactorisation
@@ -60,16 +56,7 @@ namespace hertzgear
       public:
         MumpsFactorisation(const MatrixType &matrix, const MPI_Comm comm)
         {
-          check_petsc(KSPCreate(comm, &ksp), "KSPCreate");
-          const Mat A = matrix;
-          check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-          check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-          PC pc;
-          check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-          check_petsc(PCSetType(pc, PCLU), "PCSetType");
-          check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-          check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
-          check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
+          create_mumps_lu(ksp, matrix, comm);
         }
         ~MumpsFactorisation() { KSPDestroy(&ksp); }
         MumpsFactorisation(const MumpsFactorisation &) = delete;
