@@ -13,6 +13,7 @@
 // accuracy_stiffness.csv, accuracy_stiffness.json and accuracy_stiffness.png (matplotlib).
 #include "app/command.h"
 #include "app/run_directory.h"
+#include "app/scripts.h"
 #include "app/stiffness_stage.h"
 #include "common/errors.h"
 #include "common/progress.h"
@@ -383,16 +384,9 @@ namespace hertzgear
               j.update(provenance(base));
               dir.write_json("accuracy_stiffness.json", j);
               dir.finish(timer, {{"stage", "accuracy stiffness"}});
-              const fs::path script =
-                fs::path(HERTZGEAR_SOURCE_DIR) / "scripts" / "plot_accuracy_stiffness.py";
-              // Debian's interpreter carries matplotlib; a python3 earlier on PATH may not.
-              const std::string python =
-                fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-              const std::string command = python + " '" + script.string() + "' '" +
-                                          (dir.path() / "accuracy_stiffness.csv").string() + "' '" +
-                                          (dir.path() / "accuracy_stiffness.png").string() + "'";
-              if (fs::exists(script) && std::system(command.c_str()) != 0)
-                progress_line("accuracy", "warning: the plot could not be made (" + command + ")");
+              draw_figure("plot_accuracy_stiffness.py",
+                          {(dir.path() / "accuracy_stiffness.csv").string(),
+                           (dir.path() / "accuracy_stiffness.png").string()});
             }
         }
       set_progress_stream(nullptr);
@@ -402,17 +396,7 @@ namespace hertzgear
 
   void add_accuracy_stiffness_command(CommandRegistry &registry, CLI::App *top)
   {
-    // `accuracy` groups the accuracy studies of all stages; create it unless a stage already did.
-    CLI::App *accuracy = nullptr;
-    try
-      {
-        accuracy = top->get_subcommand("accuracy");
-      }
-    catch (const CLI::OptionNotFound &)
-      {
-        accuracy = top->add_subcommand("accuracy", "Work-precision studies: error versus time");
-        accuracy->require_subcommand(1);
-      }
+    CLI::App *accuracy = command_group(*top, "accuracy", "Work-precision studies: error versus time");
     auto      levels  = std::make_shared<std::string>();
     auto      factors = std::make_shared<std::string>("1,2,4");
     CLI::App *sub     = registry.add_command(

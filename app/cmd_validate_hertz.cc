@@ -8,6 +8,7 @@
 #include "app/cmd_validate_hertz.h"
 
 #include "app/meshing_setup.h"
+#include "app/scripts.h"
 #include "app/scene.h"
 #include "app/validation_scene.h"
 #include "common/atomic_file.h"
@@ -549,15 +550,7 @@ namespace hertzgear
               write_file_atomically(dir / "pressure_profiles.csv", study.profiles.str());
               write_file_atomically(dir / "used_parameters.prm",
                                     "# " + ctx.command_line + "\n" + used.str());
-              const fs::path script =
-                fs::path(HERTZGEAR_SOURCE_DIR) / "scripts" / "plot_hertz_validation.py";
-              // Debian's interpreter carries matplotlib; a python3 earlier on PATH may not.
-              const std::string python =
-                fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-              const std::string command =
-                python + " '" + script.string() + "' '" + dir.string() + "' > /dev/null";
-              if (fs::exists(script) && std::system(command.c_str()) != 0)
-                say("warning: the figures could not be made (" + command + ")");
+              draw_figure("plot_hertz_validation.py", {dir.string()});
             }
           timer.print_summary(progress_stream());
         }
@@ -567,16 +560,7 @@ namespace hertzgear
 
   void add_validation_commands(CommandRegistry &registry, CLI::App &top)
   {
-    CLI::App *validate = nullptr;
-    try
-      {
-        validate = top.get_subcommand("validate");
-      }
-    catch (const CLI::OptionNotFound &)
-      {
-        validate = top.add_subcommand("validate", "Validation studies against closed forms");
-        validate->require_subcommand(1);
-      }
+    CLI::App *validate = command_group(top, "validate", "Validation studies against closed forms");
     auto only   = std::make_shared<std::string>();
     auto coarse = std::make_shared<bool>(false);
     CLI::App *hertz = registry.add_command(

@@ -118,13 +118,15 @@ TEST(Run, TableSourceRunsOnlyDynamicsAndSweepAddsTheSweep)
   const fs::path first = fresh_temp_dir("run_table_source");
   run_small(first);
   const fs::path dir = fresh_temp_dir("run_table_consumer");
-  const auto     r   = run_hertzgear(
+  // Dynamics and a small sweep on the table that the first run wrote.
+  const std::string consumer =
     "run " + scene_path("paper_crowned.prm") +
     " --set Stiffness/source=table --set " + quoted(fs::path("Stiffness/table_file=" + (first / "stiffness.json").string())) +
     " --set Dynamics/periods=60 --set Dynamics/transient_periods=30 --set Output/report=false"
     " --set Sweep/enabled=true --set Sweep/points=3 --set Sweep/speed_min_rpm=100"
     " --set Sweep/speed_max_rpm=200 --set Sweep/periods_per_point=40"
-    " --set Sweep/transient_periods_per_point=20 --set Sweep/mode=independent --out " + quoted(dir));
+    " --set Sweep/transient_periods_per_point=20 --set Sweep/mode=independent --out " + quoted(dir);
+  const auto r = run_hertzgear(consumer);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(stages_that_ran(dir), (std::map<std::string, bool>{{"dynamics", true}, {"sweep", true}}));
   EXPECT_EQ(slurp(dir / "stiffness.json"), slurp(first / "stiffness.json"))
@@ -135,13 +137,7 @@ TEST(Run, TableSourceRunsOnlyDynamicsAndSweepAddsTheSweep)
   // The table is an input of the dynamics and the sweep: a new table (less crowning) reruns both,
   // and the reason names the table.
   run_small(first, "--set \"Gear pair/Pinion/crowning_um=40\"");
-  const auto again = run_hertzgear(
-    "run " + scene_path("paper_crowned.prm") +
-    " --set Stiffness/source=table --set " + quoted(fs::path("Stiffness/table_file=" + (first / "stiffness.json").string())) +
-    " --set Dynamics/periods=60 --set Dynamics/transient_periods=30 --set Output/report=false"
-    " --set Sweep/enabled=true --set Sweep/points=3 --set Sweep/speed_min_rpm=100"
-    " --set Sweep/speed_max_rpm=200 --set Sweep/periods_per_point=40"
-    " --set Sweep/transient_periods_per_point=20 --set Sweep/mode=independent --out " + quoted(dir));
+  const auto again = run_hertzgear(consumer);
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(stages_that_ran(dir), (std::map<std::string, bool>{{"dynamics", true}, {"sweep", true}}));
   EXPECT_THAT(again.err, HasSubstr("dynamics: runs (input changed: " + (first / "stiffness.json").string()));
