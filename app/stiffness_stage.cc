@@ -46,12 +46,15 @@ namespace hertzgear
       virtual ~Body() = default;
       virtual const fem::FlankCompliance &compliance() const = 0;
       virtual std::size_t                 n_dofs() const     = 0;
-      // Displacement and stress of the body under the contact pressures of one position
-      // (collective); returns the .pvtu name. `force_scale` turns p A [N] into the FE body's
-      // load (1/b for the unit-thickness plane-strain body).
-      virtual std::string write_fields(const fem::PositionResult &p, bool is_gear, double force_scale,
-                                       const fs::path &dir, const std::string &name,
-                                       unsigned int counter) const = 0;
+      // Displacement and stress of the body under the contact pressures of every position
+      // (collective; one block substitution for all); returns the .pvtu names, file i for
+      // positions[i]. `force_scale` turns p A [N] into the FE body's load (1/b for the
+      // unit-thickness plane-strain body).
+      virtual std::vector<std::string> write_fields(const std::vector<fem::PositionResult> &positions,
+                                                    bool is_gear, double force_scale,
+                                                    const fs::path &dir, const std::string &name) const = 0;
+      // Wall-time breakdown of the FE body (assembly, factorisation, substitutions, ...).
+      virtual const fem::ElasticBodyTimings &timings() const = 0;
       // The contact-grid cell centres on this body's flank, in its frame (z = 0 in 2D).
       virtual std::vector<std::array<double, 3>> contact_points(const fem::PositionResult &p,
                                                                 bool is_gear) const = 0;
@@ -159,21 +162,30 @@ namespace hertzgear
                          fem::FlankPoint{p.cell_pair[k], p.cell_pinion_roll_mm[k], p.cell_z_mm[k]};
       }
 
-      std::string write_fields(const fem::PositionResult &p, const bool is_gear,
-                               const double force_scale, const fs::path &dir,
-                               const std::string &name, const unsigned int counter) const override
+      std::vector<std::string> write_fields(const std::vector<fem::PositionResult> &positions,
+                                            const bool is_gear, const double force_scale,
+                                            const fs::path &dir, const std::string &name) const override
       {
-        std::vector<typename fem::ElasticBody<dim>::PatchLoad> loads;
-        std::vector<double>                                    forces;
-        for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
-          if (p.cell_pressure_MPa[k] > 0)
-            {
-              loads.push_back(table->patch_load(flank_point(p, k, is_gear)));
-              forces.push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k] * force_scale);
-            }
-        const auto u = body->solve_patch_loads(loads, forces);
-        return fem::write_body_fields(*body, u, dir, name, counter);
+        std::vector<std::vector<typename fem::ElasticBody<dim>::PatchLoad>> loads(positions.size());
+        std::vector<std::vector<double>>                                    forces(positions.size());
+        for (std::size_t i = 0; i < positions.size(); ++i)
+          {
+            const auto &p = positions[i];
+            for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+              if (p.cell_pressure_MPa[k] > 0)
+                {
+                  loads[i].push_back(table->patch_load(flank_point(p, k, is_gear)));
+                  forces[i].push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k] * force_scale);
+                }
+          }
+        const auto               u = body->solve_patch_load_sets(loads, forces);
+        std::vector<std::string> files;
+        for (std::size_t i = 0; i < positions.size(); ++i)
+          files.push_back(fem::write_body_fields(*body, u[i], dir, name, i));
+        return files;
       }
+
+      const fem::ElasticBodyTimings &timings() const override { return body->get_timings(); }
 
       std::vector<std::array<double, 3>> contact_points(const fem::PositionResult &p,
                                                         const bool is_gear) const override
@@ -350,13 +362,24 @@ namespace hertzgear
         line << name << " FE: " << bodies[b]->n_dofs() << " DOFs, "
              << (b == 0 ? pinion_teeth : gear_teeth).size() * s.n_roll * s.n_face
              << " load cases, " << std::fixed << std::setprecision(2) << dt << " s";
+        const auto &tb = bodies[b]->timings();
+        line << " (set-up " << tb.setup_s << ", assembly " << tb.assembly_s << ", factorisation "
+             << tb.solver_setup_s << ", load vectors " << tb.load_vectors_s << ", solves "
+             << tb.solves_s << ", readings " << tb.point_values_s << " s)";
         progress_line("stiffness", line.str());
         result.metadata["bodies"][name] = {{"dofs", bodies[b]->n_dofs()},
                                            {"load_cases", (b == 0 ? pinion_teeth : gear_teeth).size() *
                                                             s.n_roll * s.n_face},
                                            {"table_roll_nodes", s.n_roll},
                                            {"table_face_nodes", s.n_face},
-                                           {"wall_time_s", dt}};
+                                           {"wall_time_s", dt},
+                                           {"wall_time_breakdown_s",
+                                            {{"setup", tb.setup_s},
+                                             {"assembly", tb.assembly_s},
+                                             {"factorisation", tb.solver_setup_s},
+                                             {"load_vectors", tb.load_vectors_s},
+                                             {"solves", tb.solves_s},
+                                             {"readings", tb.point_values_s}}}};
       }
 
     fem::MeshCycleSettings cs;
@@ -424,11 +447,12 @@ namespace hertzgear
           {
             const std::string name = b == 0 ? "pinion" : "gear";
             std::vector<std::pair<double, std::string>> fields, contact;
+            const auto files =
+              bodies[b]->write_fields(result.cycle.positions, b == 1, force_scale, partial, name);
             for (unsigned int i = 0; i < result.cycle.positions.size(); ++i)
               {
                 const auto &p = result.cycle.positions[i];
-                fields.emplace_back(p.mesh_phase,
-                                    bodies[b]->write_fields(p, b == 1, force_scale, partial, name, i));
+                fields.emplace_back(p.mesh_phase, files[i]);
                 const auto points = bodies[b]->contact_points(p, b == 1);
                 const std::string file = msg(name, "_contact_", std::setw(4), std::setfill('0'), i, ".vtu");
                 contact.emplace_back(p.mesh_phase, file);

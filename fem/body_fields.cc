@@ -71,7 +71,10 @@ namespace hertzgear::fem
       dim, DataComponentInterpretation::component_is_part_of_vector);
     data_out.add_data_vector(displacement, names, DataOut<dim>::type_dof_data, kinds);
     data_out.add_data_vector(displacement, von_mises);
-    data_out.build_patches(body.get_mapping(), body.get_dof_handler().get_fe().degree);
+    // One patch per cell (values at the vertices, linear in between): a Q2 field subdivided into
+    // 2^dim sub-cells per cell made the files 2.7 times larger and cost half of a 2D cycle's
+    // wall time (docs/accuracy-stiffness.md); the meshes are fine where the stress varies.
+    data_out.build_patches(body.get_mapping(), 1);
     DataOutBase::VtkFlags flags;
     flags.compression_level = DataOutBase::VtkFlags::ZlibCompressionLevel::best_speed;
     data_out.set_flags(flags);

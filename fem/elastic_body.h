@@ -3,8 +3,9 @@
 //
 // The body is assembled once and its solver set up once; every further load case reuses it. Two
 // solvers (Parameters::linear_solver):
-//   direct  MUMPS LU through PETSc, factorised once; each load case is one forward/backward
-//           substitution (exact to round-off; memory grows fast with the DOFs in 3D).
+//   direct  MUMPS Cholesky (LDL^T of the SPD stiffness matrix) through PETSc, factorised once;
+//           load cases are forward/backward substitutions, many at once as one dense block
+//           (exact to round-off; memory grows fast with the DOFs in 3D).
 //   amg_cg  PETSc CG preconditioned by smoothed-aggregation AMG (PCGAMG) with the rigid-body
 //           modes as near-null space; the AMG hierarchy is built once and reused, each load case
 //           is one CG solve to the relative residual linear_solver_tolerance (memory ~ the matrix).
@@ -57,6 +58,18 @@ namespace hertzgear
       using InputError::InputError;
     };
 
+    // Wall-time breakdown of an ElasticBody (seconds on this rank, accumulated over all calls).
+    struct ElasticBodyTimings
+    {
+      double       setup_s        = 0; // DoFs, constraints, sparsity pattern
+      double       assembly_s     = 0; // stiffness matrix
+      double       solver_setup_s = 0; // MUMPS factorisation or AMG hierarchy
+      double       load_vectors_s = 0; // patch and traction load vectors
+      double       solves_s       = 0; // substitutions or CG solves
+      double       point_values_s = 0; // readings of the compliance table
+      unsigned int n_solves       = 0; // right-hand sides solved
+    };
+
     template <int dim>
     class ElasticBody
     {
@@ -84,6 +97,8 @@ namespace hertzgear
         // can override both and tune the AMG.
         double                      linear_solver_tolerance      = 1.0e-10;
         unsigned int                linear_solver_max_iterations = 2000;
+        // direct only: right-hand sides per block substitution; 0 = as many as fit in 256 MB.
+        unsigned int                block_columns = 0;
       };
 
       // "direct" / "amg-cg" (the scene's spelling) <-> LinearSolver; InputError for anything else.
@@ -138,6 +153,14 @@ namespace hertzgear
       // forces[k] * direction_k (one assembly pass, one solve): the loaded body of a mesh position.
       VectorType solve_patch_loads(const std::vector<PatchLoad> &loads,
                                    const std::vector<double> &   forces) const;
+      // The same for several load sets (e.g. every mesh position) with one block substitution:
+      // result[s] is the field of loads[s] carrying forces[s].
+      std::vector<VectorType> solve_patch_load_sets(const std::vector<std::vector<PatchLoad>> &loads,
+                                                    const std::vector<std::vector<double>> &forces) const;
+
+      // Where the body's time went (wall seconds on this rank, accumulated over all calls).
+      using Timings = ElasticBodyTimings;
+      const Timings &get_timings() const { return timings; }
 
       // Displacements (vectors) at points anywhere in the body; collective, every rank gets all.
       std::vector<dealii::Tensor<1, dim>> point_values(const VectorType &                     solution,
@@ -173,6 +196,11 @@ namespace hertzgear
       void setup_amg_cg();
 
       VectorType solve(VectorType &rhs) const;
+      // Solves every right-hand side (consumed); direct: dense blocks of columns bounded in memory.
+      std::vector<VectorType> solve_many(std::vector<VectorType> &rhs) const;
+      std::size_t             block_columns() const;
+      // The common tail of solve and solve_many: constraints, ghosted copy.
+      VectorType finish_solution(VectorType &solution) const;
       // Load vector of a patch (not yet divided by the patch area) and the weighted patch area.
       std::pair<VectorType, double> assemble_patch_rhs(const PatchLoad &load) const;
       bool                          is_load_face(const dealii::types::boundary_id id) const;
@@ -196,6 +224,7 @@ namespace hertzgear
       // headers out).
       struct Factorisation;
       std::unique_ptr<Factorisation> factorisation;
+      mutable Timings                timings;
     };
   } // namespace fem
 } // namespace hertzgear
