@@ -72,7 +72,7 @@ namespace hertzgear::fem
     data_out.add_data_vector(displacement, names, DataOut<dim>::type_dof_data, kinds);
     data_out.add_data_vector(displacement, von_mises);
     // One patch per cell (values at the vertices, linear in between): a Q2 field subdivided into
-    // 2^dim sub-cells per cell made the files 2.7 times larger and cost half of a 2D cycle's
+    // 2^dim sub-cells per cell made the files 2.7 times larger and cost a third of a 2D cycle's
     // wall time (docs/accuracy-stiffness.md); the meshes are fine where the stress varies.
     data_out.build_patches(body.get_mapping(), 1);
     DataOutBase::VtkFlags flags;
