@@ -196,6 +196,27 @@ TEST(StiffnessCli, WritesFieldsWhosePressuresCarryTheLoad)
   EXPECT_FALSE(fs::exists(off / "fields"));
 }
 
+TEST(StiffnessCli, AClosedFormSourceWritesItsTableWithoutMeshingOrFe)
+{
+  // Requirement: a scene whose Stiffness/source is a closed form (here hertz-analytic) gets that
+  // table from `hertzgear stiffness`, in the contract's files, without meshing or FE (the FE
+  // stage of this 3D scene would take minutes and 14 GB; the closed form takes milliseconds).
+  const fs::path out = fresh_temp_dir("stiffness_closed_form");
+  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_crowned.prm") +
+                               " --set Stiffness/source=hertz-analytic --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("no meshing or FE"));
+  EXPECT_FALSE(fs::exists(out / "mesh"));
+  EXPECT_FALSE(fs::exists(out / "fields"));
+  const auto json = nlohmann::json::parse(slurp(out / "stiffness.json"));
+  EXPECT_THAT(json.at("source").get<std::string>(), HasSubstr("hertz-analytic"));
+  EXPECT_GT(json.at("mean_k_total_N_per_m").get<double>(), 0.0);
+  std::istringstream csv(slurp(out / "stiffness.csv"));
+  std::string        header;
+  std::getline(csv, header);
+  EXPECT_THAT(header, HasSubstr("position,mesh_phase,ste_um,k_total_N_per_m"));
+}
+
 TEST(StiffnessCli, AMeshTooCoarseForTheContactBandIsAnInputError)
 {
   // Requirement: a mesh whose flank elements are coarser than the load patches of the compliance
