@@ -20,10 +20,10 @@
 int main(int argc, char **argv)
 {
   using namespace hertzgear;
-  // MPI and PETSc for the FE stage (and sweeps over ranks). deal.II's worker threads (field
-  // output) share the node's cores among the ranks on it: 2 threads serial on 2 cores, 1 per rank
-  // under mpirun -np 2.
-  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, dealii::numbers::invalid_unsigned_int);
+  // MPI and PETSc for the FE stage (and sweeps over ranks); one deal.II thread per rank: deal.II's
+  // worker threads (WorkStream in DataOut, KellyErrorEstimator) read PETSc vectors concurrently,
+  // which is not thread-safe and aborted a resolved-contact run when they were allowed.
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   CLI::App app{"hertzgear: finite-element contact stiffness and gear-pair dynamics", "hertzgear"};
   app.set_version_flag("--version",
                        std::string("hertzgear ") + version + " (git " + git_revision + ")");
