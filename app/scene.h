@@ -159,13 +159,13 @@ namespace hertzgear
     std::string text;
   };
 
-  // Read a scene (.prm or .json; an empty path gives the built-in defaults), apply overrides in
-  // order, check ranges and cross-field consistency. Throws InputError naming the file, line and
-  // key for anything wrong.
   // The "additional information" of a deal.II exception (ParameterHandler's messages) on one
   // line, without the source location meant for developers.
   std::string user_message(const dealii::ExceptionBase &e);
 
+  // Read a scene (.prm or .json; an empty path gives the built-in defaults), apply overrides in
+  // order, check ranges and cross-field consistency. Throws InputError naming the file, line and
+  // key for anything wrong.
   Scene load_scene(const std::filesystem::path &file, const std::vector<std::string> &overrides = {});
 
   // The documented default scene in .prm form (what `hertzgear defaults` prints).

@@ -54,7 +54,7 @@ namespace hertzgear
                                                     bool is_gear, double force_scale,
                                                     const fs::path &dir, const std::string &name) const = 0;
       // Wall-time breakdown of the FE body (assembly, factorisation, substitutions, ...).
-      virtual const fem::ElasticBodyTimings &timings() const = 0;
+      virtual const PhaseTimer &timer() const = 0;
       // The contact-grid cell centres on this body's flank, in its frame (z = 0 in 2D).
       virtual std::vector<std::array<double, 3>> contact_points(const fem::PositionResult &p,
                                                                 bool is_gear) const = 0;
@@ -185,7 +185,7 @@ namespace hertzgear
         return files;
       }
 
-      const fem::ElasticBodyTimings &timings() const override { return body->get_timings(); }
+      const PhaseTimer &timer() const override { return body->get_timer(); }
 
       std::vector<std::array<double, 3>> contact_points(const fem::PositionResult &p,
                                                         const bool is_gear) const override
@@ -362,10 +362,14 @@ namespace hertzgear
         line << name << " FE: " << bodies[b]->n_dofs() << " DOFs, "
              << (b == 0 ? pinion_teeth : gear_teeth).size() * s.n_roll * s.n_face
              << " load cases, " << std::fixed << std::setprecision(2) << dt << " s";
-        const auto &tb = bodies[b]->timings();
-        line << " (set-up " << tb.setup_s << ", assembly " << tb.assembly_s << ", factorisation "
-             << tb.solver_setup_s << ", load vectors " << tb.load_vectors_s << ", solves "
-             << tb.solves_s << ", readings " << tb.point_values_s << " s)";
+        nlohmann::json breakdown = nlohmann::json::object();
+        line << " (";
+        for (const auto &[phase, seconds] : bodies[b]->timer().phases())
+          {
+            line << (breakdown.empty() ? "" : ", ") << phase << " " << seconds;
+            breakdown[phase] = seconds;
+          }
+        line << " s)";
         progress_line("stiffness", line.str());
         result.metadata["bodies"][name] = {{"dofs", bodies[b]->n_dofs()},
                                            {"load_cases", (b == 0 ? pinion_teeth : gear_teeth).size() *
@@ -373,13 +377,7 @@ namespace hertzgear
                                            {"table_roll_nodes", s.n_roll},
                                            {"table_face_nodes", s.n_face},
                                            {"wall_time_s", dt},
-                                           {"wall_time_breakdown_s",
-                                            {{"setup", tb.setup_s},
-                                             {"assembly", tb.assembly_s},
-                                             {"factorisation", tb.solver_setup_s},
-                                             {"load_vectors", tb.load_vectors_s},
-                                             {"solves", tb.solves_s},
-                                             {"readings", tb.point_values_s}}}};
+                                           {"wall_time_breakdown_s", breakdown}};
       }
 
     fem::MeshCycleSettings cs;

@@ -18,7 +18,6 @@
 #include <petscksp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <fstream>
 
@@ -30,23 +29,6 @@ namespace hertzgear
 
     namespace
     {
-      // Adds the wall time of its scope to `seconds`.
-      class ScopedSeconds
-      {
-      public:
-        explicit ScopedSeconds(double &seconds)
-          : seconds(seconds), start(std::chrono::steady_clock::now())
-        {}
-        ~ScopedSeconds()
-        {
-          seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        }
-
-      private:
-        double &                              seconds;
-        std::chrono::steady_clock::time_point start;
-      };
-
       // Bytes of one dense block of right-hand sides (and as much again for the solutions) in a
       // block substitution: 256 MB, e.g. 160 columns of a 200 000-DOF 2D body, 16 of a 2-million-DOF
       // 3D one.
@@ -134,14 +116,15 @@ namespace hertzgear
     void ElasticBody<dim>::run()
     {
       {
-        ScopedSeconds t(timings.setup_s);
+        PhaseTimer::Scope t(timer, "set-up");
         setup_system();
       }
       {
-        ScopedSeconds t(timings.assembly_s);
+        PhaseTimer::Scope t(timer, "assembly");
         assemble_system();
       }
-      ScopedSeconds t(timings.solver_setup_s);
+      PhaseTimer::Scope t(timer, parameters.linear_solver == LinearSolver::direct ? "factorisation" :
+                                                                                   "AMG hierarchy");
       setup_solver();
     }
 
@@ -401,9 +384,9 @@ namespace hertzgear
       HG_REQUIRE_INPUT(factorisation != nullptr, "ElasticBody::run() must be called before solving");
       VectorType solution(locally_owned_dofs, mpi_communicator);
       {
-        ScopedSeconds t(timings.solves_s);
+        PhaseTimer::Scope t(timer, "solves");
         check_petsc(KSPSolve(factorisation->ksp, rhs, solution), "KSPSolve");
-        ++timings.n_solves;
+        ++solves_done;
       }
       KSPConvergedReason reason;
       check_petsc(KSPGetConvergedReason(factorisation->ksp, &reason), "KSPGetConvergedReason");
@@ -478,9 +461,9 @@ namespace hertzgear
               x.push_back(block_solutions[j - start]);
             }
           {
-            ScopedSeconds t(timings.solves_s);
+            PhaseTimer::Scope t(timer, "solves");
             mumps_block_solve(factorisation->ksp, b, x);
-            timings.n_solves += end - start;
+            solves_done += end - start;
           }
           for (auto &u : block_solutions)
             solutions.push_back(finish_solution(u));
@@ -530,8 +513,8 @@ namespace hertzgear
     ElasticBody<dim>::assemble_patch_rhs(const PatchLoad &load) const
     {
       HG_REQUIRE_INPUT(load.radius > 0, "patch radius must be positive, got ", load.radius);
-      ScopedSeconds t(timings.load_vectors_s);
-      VectorType    rhs(locally_owned_dofs, mpi_communicator);
+      PhaseTimer::Scope t(timer, "load vectors");
+      VectorType        rhs(locally_owned_dofs, mpi_communicator);
 
       const QGauss<dim - 1> face_quadrature(fe.degree + 2);
       FEFaceValues<dim>     fe_face_values(mapping, fe, face_quadrature,
@@ -665,7 +648,7 @@ namespace hertzgear
               rhs.push_back(std::move(f));
             }
           const auto fields = solve_many(rhs);
-          ScopedSeconds t(timings.point_values_s);
+          PhaseTimer::Scope t(timer, "readings");
           for (std::size_t l = start; l < end; ++l)
             {
               const auto values =

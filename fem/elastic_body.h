@@ -18,6 +18,7 @@
 //
 // Inputs before outputs, SI or any consistent unit system (the class never converts units).
 #include "common/errors.h"
+#include "common/progress.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/index_set.h>
@@ -56,18 +57,6 @@ namespace hertzgear
     {
     public:
       using InputError::InputError;
-    };
-
-    // Wall-time breakdown of an ElasticBody (seconds on this rank, accumulated over all calls).
-    struct ElasticBodyTimings
-    {
-      double       setup_s        = 0; // DoFs, constraints, sparsity pattern
-      double       assembly_s     = 0; // stiffness matrix
-      double       solver_setup_s = 0; // MUMPS factorisation or AMG hierarchy
-      double       load_vectors_s = 0; // patch and traction load vectors
-      double       solves_s       = 0; // substitutions or CG solves
-      double       point_values_s = 0; // readings of the compliance table
-      unsigned int n_solves       = 0; // right-hand sides solved
     };
 
     template <int dim>
@@ -158,9 +147,12 @@ namespace hertzgear
       std::vector<VectorType> solve_patch_load_sets(const std::vector<std::vector<PatchLoad>> &loads,
                                                     const std::vector<std::vector<double>> &forces) const;
 
-      // Where the body's time went (wall seconds on this rank, accumulated over all calls).
-      using Timings = ElasticBodyTimings;
-      const Timings &get_timings() const { return timings; }
+      // Where the body's time went (wall seconds on this rank, accumulated over all calls), in
+      // phases "set-up" (DoFs, constraints, sparsity), "assembly", "factorisation" (direct) or
+      // "AMG hierarchy" (amg_cg), "load vectors", "solves" and "readings" (compliance table).
+      const PhaseTimer &get_timer() const { return timer; }
+      // Right-hand sides solved so far.
+      unsigned int n_solves() const { return solves_done; }
 
       // Displacements (vectors) at points anywhere in the body; collective, every rank gets all.
       std::vector<dealii::Tensor<1, dim>> point_values(const VectorType &                     solution,
@@ -224,7 +216,8 @@ namespace hertzgear
       // headers out).
       struct Factorisation;
       std::unique_ptr<Factorisation> factorisation;
-      mutable Timings                timings;
+      mutable PhaseTimer             timer;
+      mutable unsigned int           solves_done = 0;
     };
   } // namespace fem
 } // namespace hertzgear

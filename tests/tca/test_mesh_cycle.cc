@@ -214,7 +214,8 @@ TEST(MeshCycle, HertzianPenetrationIsReadAtTheContactCentre)
       settings.profile_cells = cells;
       settings.face_cells    = cells;
       const MeshCycle cycle(kin, steel, steel, far, far, settings);
-      const double    tau  = 0.5 * (kin.contact_ratio() - 1.0 + 1.0);
+      // The middle of the single-tooth zone, mesh phases [eps_alpha - 1, 1].
+      const double    tau  = 0.5 * ((kin.contact_ratio() - 1.0) + 1.0);
       const auto      pos  = cycle.solve_position(tau, paper_load_N);
       ASSERT_EQ(pos.pairs.size(), 1u);
       const auto  &pair = pos.pairs[0];
