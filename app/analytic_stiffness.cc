@@ -6,9 +6,11 @@
 #include "dynamics/stiffness_table.h"
 #include "fem/hertz.h"
 #include "meshing/iso6336.h"
+#include "meshing/potential_energy.h"
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
@@ -16,6 +18,8 @@ namespace hertzgear
 {
   namespace
   {
+    constexpr double pi = 3.14159265358979323846;
+
     // One tooth pair at a contact point: its Hertzian approach [mm] at load F [N] and the contact
     // semi-axes [mm] and peak pressure [MPa] that go with it.
     struct PairContact
@@ -27,8 +31,18 @@ namespace hertzgear
     {
       const meshing::PairKinematics &pair;
       double E_star_MPa = 0, face_mm = 0, kappa_lead_per_mm = 0, n = 1, k_r1_N_per_mm = 0;
+      // Uncrowned flanks: Yang & Lin's linear line contact (potential-energy source) instead of
+      // Palmgren's.
+      bool yang_lin = false;
+      // Structural stiffness of one pair at a contact point [N/mm]; empty: k_r1 everywhere.
+      std::function<double(double roll_mm)> structural;
 
       bool crowned() const { return kappa_lead_per_mm > 0; }
+
+      double structural_N_per_mm(const double roll_mm) const
+      {
+        return structural ? structural(roll_mm) : k_r1_N_per_mm;
+      }
 
       PairContact contact(const double load_N, const double roll_mm) const
       {
@@ -48,7 +62,9 @@ namespace hertzgear
           }
         else
           {
-            c.approach_mm = hertz::line_approach_palmgren_mm(load_N, face_mm, E_star_MPa);
+            // Yang & Lin (1987): k_h = pi E L / (4 (1 - nu^2)) for equal materials, = pi L E* / 2.
+            c.approach_mm = yang_lin ? 2 * load_N / (pi * face_mm * E_star_MPa) :
+                                       hertz::line_approach_palmgren_mm(load_N, face_mm, E_star_MPa);
             const auto l  = hertz::line_contact(load_N / face_mm, 1.0 / kappa_profile, E_star_MPa);
             c.a_mm        = l.half_width;
             c.b_mm        = 0.5 * face_mm;
@@ -57,12 +73,55 @@ namespace hertzgear
         return c;
       }
 
-      // Approach of one pair (structural + Hertzian) at load F [mm].
-      double pair_approach_mm(const double load_N, const double roll_mm) const
+      // Approach of one pair (structural k_r [N/mm] + Hertzian) at load F [mm].
+      double pair_approach_mm(const double load_N, const double roll_mm, const double k_r) const
       {
-        return load_N / k_r1_N_per_mm + contact(load_N, roll_mm).approach_mm;
+        return load_N / k_r + contact(load_N, roll_mm).approach_mm;
       }
     };
+
+    // The pairs in contact sharing a total load so that their approaches agree.
+    struct Sharing
+    {
+      double              approach_mm = 0; // the common approach (loaded STE)
+      std::vector<double> loads_N;
+    };
+
+    Sharing share_load(const Model &m, const std::vector<double> &roll, const std::vector<double> &k_r,
+                       const double F_N)
+    {
+      // Common approach: bisection on sum_i F_i(delta) = F, F_i from each pair's approach.
+      const auto load_at = [&](const std::size_t j, const double delta) {
+        double lo = 0, hi = F_N;
+        while (m.pair_approach_mm(hi, roll[j], k_r[j]) < delta)
+          hi *= 2;
+        for (int it = 0; it < 100 && hi - lo > 1e-10 * F_N; ++it)
+          {
+            const double mid = 0.5 * (lo + hi);
+            (m.pair_approach_mm(mid, roll[j], k_r[j]) < delta ? lo : hi) = mid;
+          }
+        return 0.5 * (lo + hi);
+      };
+      const auto total_at = [&](const double delta) {
+        double f = 0;
+        for (std::size_t j = 0; j < roll.size(); ++j)
+          f += load_at(j, delta);
+        return f;
+      };
+      double lo = 0, hi = m.pair_approach_mm(F_N, roll[0], k_r[0]);
+      while (total_at(hi) < F_N)
+        hi *= 2;
+      for (int it = 0; it < 100 && hi - lo > 1e-12 * hi; ++it)
+        {
+          const double mid = 0.5 * (lo + hi);
+          (total_at(mid) < F_N ? lo : hi) = mid;
+        }
+      Sharing s;
+      s.approach_mm = 0.5 * (lo + hi);
+      for (std::size_t j = 0; j < roll.size(); ++j)
+        s.loads_N.push_back(load_at(j, s.approach_mm));
+      return s;
+    }
 
     std::string number(const double v)
     {
@@ -77,12 +136,17 @@ namespace hertzgear
     }
   } // namespace
 
+  bool is_closed_form_source(const std::string &source)
+  {
+    return source == "iso6336" || source == "hertz-analytic" || source == "potential-energy";
+  }
+
   AnalyticStiffness analytic_stiffness(const Scene &scene)
   {
     const auto &st = scene.stiffness;
-    HG_REQUIRE_INPUT(st.source == "iso6336" || st.source == "hertz-analytic",
-                     "closed-form stiffness needs Stiffness/source = iso6336 or hertz-analytic, got ",
-                     st.source);
+    HG_REQUIRE_INPUT(is_closed_form_source(st.source),
+                     "closed-form stiffness needs Stiffness/source = iso6336, hertz-analytic or "
+                     "potential-energy, got ", st.source);
     HG_REQUIRE_INPUT(scene.operating.torque_Nm > 0, "Operating/torque_Nm = ", scene.operating.torque_Nm,
                      ": the closed-form stiffness is evaluated at the static load and needs a "
                      "positive torque");
@@ -92,7 +156,7 @@ namespace hertzgear
     const double F0_N = scene.operating.torque_Nm * 1e3 / pair.pinion().base_radius_mm();
     const double eps  = pair.contact_ratio();
 
-    Model m{pair};
+    Model m{pair, 0, 0, 0, 1, 0, false, {}};
     m.E_star_MPa = hertz::contact_modulus(
       {scene.pinion_material.youngs_modulus_MPa, scene.pinion_material.poisson_ratio},
       {scene.gear_material.youngs_modulus_MPa, scene.gear_material.poisson_ratio});
@@ -168,6 +232,54 @@ namespace hertzgear
       }
     else
       {
+        const bool pe = st.source == "potential-energy";
+        if (pe)
+          {
+            // Structural stiffness of a pair at each contact point from both teeth's
+            // potential-energy compliance (meshing/potential_energy.h).
+            m.yang_lin   = true;
+            m.structural = [&](const double roll_mm) {
+              const double u1 = roll_mm / pair.pinion().base_radius_mm();
+              const double u2 = (pair.line_of_action_length_mm() - roll_mm) / pair.gear().base_radius_mm();
+              const auto   c1 = meshing::tooth_compliance(pair.pinion(), u1,
+                                                          scene.pinion_material.youngs_modulus_MPa,
+                                                          scene.pinion_material.poisson_ratio);
+              const auto   c2 = meshing::tooth_compliance(pair.gear(), u2,
+                                                          scene.gear_material.youngs_modulus_MPa,
+                                                          scene.gear_material.poisson_ratio);
+              return 1.0 / (c1.total_mm_per_N() + c2.total_mm_per_N());
+            };
+            // The single-pair stiffness at the pitch point, each tooth's parts [N/m].
+            const double s_C = pair.point('C').roll_distance_mm;
+            const auto   c1  = meshing::tooth_compliance(pair.pinion(), s_C / pair.pinion().base_radius_mm(),
+                                                         scene.pinion_material.youngs_modulus_MPa,
+                                                         scene.pinion_material.poisson_ratio);
+            const auto c2 = meshing::tooth_compliance(
+              pair.gear(), (pair.line_of_action_length_mm() - s_C) / pair.gear().base_radius_mm(),
+              scene.gear_material.youngs_modulus_MPa, scene.gear_material.poisson_ratio);
+            const auto parts = [](const meshing::ToothCompliance &c) {
+              return nlohmann::json{{"bending_N_per_m", 1e3 / c.bending_mm_per_N},
+                                    {"shear_N_per_m", 1e3 / c.shear_mm_per_N},
+                                    {"axial_N_per_m", 1e3 / c.axial_mm_per_N},
+                                    {"fillet_foundation_N_per_m", 1e3 / c.fillet_mm_per_N},
+                                    {"load_angle_deg", c.load_angle_rad * 180 / pi}};
+            };
+            model["pitch_point_pinion_tooth"] = parts(c1);
+            model["pitch_point_gear_tooth"]   = parts(c2);
+            model["pitch_point_pair_structural_N_per_m"] =
+              1e3 / (c1.total_mm_per_N() + c2.total_mm_per_N());
+            model["pitch_point_pair_N_per_m"] =
+              F0_N / m.pair_approach_mm(F0_N, s_C, 1.0 / (c1.total_mm_per_N() + c2.total_mm_per_N())) * 1e3;
+            const auto c1s = meshing::tooth_compliance(pair.pinion(), s_C / pair.pinion().base_radius_mm(),
+                                                       scene.pinion_material.youngs_modulus_MPa,
+                                                       scene.pinion_material.poisson_ratio, true);
+            const auto c2s = meshing::tooth_compliance(
+              pair.gear(), (pair.line_of_action_length_mm() - s_C) / pair.gear().base_radius_mm(),
+              scene.gear_material.youngs_modulus_MPa, scene.gear_material.poisson_ratio, true);
+            model["pitch_point_pair_structural_plane_strain_N_per_m"] =
+              1e3 / (c1s.total_mm_per_N() + c2s.total_mm_per_N());
+            model["contact"] = m.crowned() ? "elliptical Hertz (crowned)" : "Yang & Lin line contact";
+          }
         std::vector<double> kh, kr, ste;
         for (int i = 0; i < S; ++i)
           {
@@ -175,53 +287,47 @@ namespace hertzgear
             std::vector<int> pairs = pair.pairs_in_contact(phase);
             HG_REQUIRE_INPUT(!pairs.empty(), "no tooth pair in contact at mesh phase ", phase,
                              " (contact ratio ", eps, ")");
-            std::vector<double> roll;
+            std::vector<double> roll, k_r;
             for (const int p : pairs)
-              roll.push_back(pair.contact_roll_distance_mm(p, phase));
-            // Common approach: bisection on sum_i F_i(delta) = F0, F_i from each pair's approach.
-            const auto load_at = [&](const std::size_t j, const double delta) {
-              double lo = 0, hi = F0_N;
-              while (m.pair_approach_mm(hi, roll[j]) < delta)
-                hi *= 2;
-              for (int it = 0; it < 100 && hi - lo > 1e-10 * F0_N; ++it)
-                {
-                  const double mid = 0.5 * (lo + hi);
-                  (m.pair_approach_mm(mid, roll[j]) < delta ? lo : hi) = mid;
-                }
-              return 0.5 * (lo + hi);
-            };
-            const auto total_at = [&](const double delta) {
-              double f = 0;
-              for (std::size_t j = 0; j < roll.size(); ++j)
-                f += load_at(j, delta);
-              return f;
-            };
-            double lo = 0, hi = m.pair_approach_mm(F0_N, roll[0]);
-            while (total_at(hi) < F0_N)
-              hi *= 2;
-            for (int it = 0; it < 100 && hi - lo > 1e-12 * hi; ++it)
               {
-                const double mid = 0.5 * (lo + hi);
-                (total_at(mid) < F0_N ? lo : hi) = mid;
+                roll.push_back(pair.contact_roll_distance_mm(p, phase));
+                k_r.push_back(m.structural_N_per_mm(roll.back()));
               }
-            const double delta = 0.5 * (lo + hi);
-            double k_h = 0, k_r = 0, delta_h_max = 0;
+            const Sharing sh    = share_load(m, roll, k_r, F0_N);
+            const double  delta = sh.approach_mm;
+            double k_h = 0, k_h_tangent = 0, k_r_sum = 0, delta_h_max = 0;
             std::vector<double> share;
             PairContact         main;
             double              main_load = -1;
             for (std::size_t j = 0; j < roll.size(); ++j)
               {
-                const double F = load_at(j, delta);
+                const double F = sh.loads_N[j];
                 const auto   c = m.contact(F, roll[j]);
                 k_h += F / std::pow(c.approach_mm, m.n);
-                k_r += m.k_r1_N_per_mm;
+                k_h_tangent += m.n * F / c.approach_mm;
+                k_r_sum += k_r[j];
                 share.push_back(F / F0_N);
                 delta_h_max = std::max(delta_h_max, c.approach_mm);
                 if (F > main_load)
                   main_load = F, main = c;
               }
+            if (pe)
+              {
+                // As the FE stage: 1/k_rest = 1/k_total,tangent - 1/k_h,tangent, the tangent
+                // total stiffness from +-2 % of the load (docs/theory-tca.md).
+                const double eps_F     = 0.02;
+                const double k_tangent = 2 * eps_F * F0_N /
+                                         (share_load(m, roll, k_r, F0_N * (1 + eps_F)).approach_mm -
+                                          share_load(m, roll, k_r, F0_N * (1 - eps_F)).approach_mm);
+                const double rest = 1.0 / k_tangent - 1.0 / k_h_tangent;
+                HG_REQUIRE_NUMERIC(rest > 0, "potential-energy stiffness at mesh phase ", phase,
+                                    ": tangent total stiffness ", k_tangent,
+                                    " N/mm is not below the Hertzian one ", k_h_tangent, " N/mm");
+                kr.push_back(1e3 / rest);
+              }
+            else
+              kr.push_back(k_r_sum * 1e3);
             kh.push_back(k_h * si_n);
-            kr.push_back(k_r * 1e3);
             ste.push_back(delta * 1e-3);
             t.samples.mesh_phase.push_back(phase);
             t.samples.k_total_N_per_m.push_back(F0_N / delta * 1e3);
@@ -240,8 +346,11 @@ namespace hertzgear
           }
         t.k_hertz_N_per_m_pow_n = dynamics::fit_fourier_series(kh, H);
         t.k_rest_N_per_m        = dynamics::fit_fourier_series(kr, H);
-        t.source = "hertz-analytic: Hertz closed forms per pair along the path of contact, "
-                   "ISO 6336 structural stiffness, load sharing by compatibility";
+        t.source = pe ? "potential-energy: tooth bending, shear and axial compliance (Yang & Lin, "
+                        "Tian), fillet foundation (Sainsot et al. 2004), Hertz contact per pair, "
+                        "load sharing by compatibility" :
+                        "hertz-analytic: Hertz closed forms per pair along the path of contact, "
+                        "ISO 6336 structural stiffness, load sharing by compatibility";
       }
     t.check();
 

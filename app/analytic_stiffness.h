@@ -1,6 +1,6 @@
 #pragma once
-// Stiffness tables from closed forms, for Stiffness/source = iso6336 and hertz-analytic (no gmsh,
-// no deal.II). The model is described in docs/stiffness-closed-form.md:
+// Stiffness tables from closed forms, for Stiffness/source = iso6336, hertz-analytic and
+// potential-energy (no gmsh, no deal.II). The model is described in docs/stiffness-closed-form.md:
 //
 //  - structural (rest) stiffness of one tooth pair, k_r1 = 1 / (1/(c' b) - 1/k_line): ISO 6336-1
 //    method B single stiffness c' over the face width b, minus the line-contact Hertzian part
@@ -14,7 +14,11 @@
 //  - hertz-analytic: at S mesh positions, the pairs in contact share the static load so that
 //    their approaches agree (each pair: k_r1 in series with its Hertzian contact at its own
 //    curvature), k_h = sum of the pairs' k_h,i, k_rest = (number of pairs) k_r1, STE = common
-//    approach, k_total = F / STE.
+//    approach, k_total = F / STE;
+//  - potential-energy: as hertz-analytic, with the structural stiffness of each pair at its
+//    contact point from both teeth's bending, shear, axial and fillet-foundation compliance
+//    (meshing/potential_energy.h) and Yang & Lin's linear line contact on uncrowned flanks;
+//    1/k_rest = 1/k_total,tangent - 1/k_h,tangent as in the FE stage.
 #include "app/scene.h"
 
 #include <nlohmann/json.hpp>
@@ -29,7 +33,10 @@ namespace hertzgear
     std::string    csv;  // stiffness.csv: a row per mesh position (same columns as the FE stage)
   };
 
-  // Throws InputError when Stiffness/source is neither iso6336 nor hertz-analytic, or when the
-  // closed forms give no positive structural stiffness (the values are named).
+  // iso6336, hertz-analytic or potential-energy: a table without meshing or FE.
+  bool is_closed_form_source(const std::string &source);
+
+  // Throws InputError when Stiffness/source is not a closed-form source, or when the closed
+  // forms give no positive structural stiffness (the values are named).
   AnalyticStiffness analytic_stiffness(const Scene &scene);
 } // namespace hertzgear

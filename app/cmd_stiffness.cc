@@ -23,7 +23,7 @@ namespace hertzgear
       const Scene scene = load_scene(ctx.scene_file, ctx.overrides);
       const std::filesystem::path out = ctx.out_dir.empty() ? "results/stiffness" : ctx.out_dir;
       // A closed-form source is what the scene asks for: write its table, not an FE one.
-      if (scene.stiffness.source == "iso6336" || scene.stiffness.source == "hertz-analytic")
+      if (is_closed_form_source(scene.stiffness.source))
         {
           if (is_root_rank())
             {
@@ -78,7 +78,7 @@ namespace hertzgear
     CLI::App *sub = registry.add_command({"stiffness",
                           "Loaded tooth contact analysis over a mesh cycle (FE + half-space): "
                           "stiffness.csv, stiffness.json, fields/ (Output/write_fields); the "
-                          "closed-form table when Stiffness/source is iso6336 or hertz-analytic",
+                          "closed-form table when Stiffness/source is iso6336, hertz-analytic or potential-energy",
                           true, true},
                          run_stiffness);
     add_accuracy_stiffness_command(registry, sub->get_parent());

@@ -24,8 +24,9 @@ namespace hertzgear
     nlohmann::json describe() const;
   };
 
-  // The stiffness table the scene asks for. fem, iso6336 and hertz-analytic are produced by the
-  // stiffness stage: they raise an InputError that says how to proceed.
+  // The stiffness table the scene asks for. fem and the closed forms (iso6336, hertz-analytic,
+  // potential-energy) are produced by the stiffness stage: they raise an InputError that says
+  // how to proceed.
   dynamics::StiffnessTable stiffness_table_for(const Scene &scene);
 
   // Throws InputError for a scene the dynamics cannot run (unknown source, c = 0 without ida...).

@@ -36,7 +36,7 @@ namespace hertzgear
     bool stiffness_stage_needed(const Scene &scene)
     {
       const auto &s = scene.stiffness.source;
-      return s == "fem" || s == "iso6336" || s == "hertz-analytic";
+      return s == "fem" || is_closed_form_source(s);
     }
 
     // "Section/key = value" lines of `prefixes`, without the lines starting with one of `drop`.
@@ -341,6 +341,10 @@ namespace hertzgear
     else if (src == "hertz-analytic")
       stages.emplace_back("stiffness", "Stiffness/source = hertz-analytic: Hertz closed forms along "
                                        "the path of contact");
+    else if (src == "potential-energy")
+      stages.emplace_back("stiffness", "Stiffness/source = potential-energy: tooth beam and fillet "
+                                       "foundation compliance with Hertz contact along the path of "
+                                       "contact");
     stages.emplace_back("dynamics",
                         src == "table" ?
                           "on the stiffness table " + scene.stiffness.table_file.lexically_normal().string() +

@@ -4,7 +4,7 @@
 //
 // Stages, in order (docs/architecture.md, "The pipeline and its cache"):
 //   stiffness  Stiffness/source = fem: meshing + FE contact over the mesh cycle (gmsh, deal.II);
-//              iso6336 / hertz-analytic: closed forms. Writes stiffness.json, stiffness.csv
+//              iso6336 / hertz-analytic / potential-energy: closed forms. Writes stiffness.json, stiffness.csv
 //              (fem also mesh/). Not run for source = table or fourier.
 //   dynamics   always: timeseries.csv, poincare.csv, spectrum.csv, force_penetration.csv,
 //              impacts.csv, summary.json

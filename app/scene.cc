@@ -237,10 +237,11 @@ namespace hertzgear
       st.linear_solver               = "direct";
       st.linear_solver_tolerance     = 1.0e-10;
       s.enter("Stiffness", "Where the mesh stiffness comes from and how finely it is resolved.");
-      s.add("source", st.source, Patterns::Selection("fem|table|fourier|iso6336|hertz-analytic"),
+      s.add("source", st.source, Patterns::Selection("fem|table|fourier|iso6336|hertz-analytic|potential-energy"),
             "Stiffness source: fem (meshing + FE contact over the mesh cycle), table (a stiffness "
             "JSON file, see table_file), fourier (coefficients in subsection Fourier), iso6336 "
-            "(ISO 6336-1 method B) or hertz-analytic (Hertz closed forms).");
+            "(ISO 6336-1 method B), hertz-analytic (Hertz closed forms) or potential-energy (tooth "
+            "beam and fillet-foundation compliance with Hertz contact, docs/stiffness-closed-form.md).");
       s.add("table_file", st.table_file_entry, Patterns::Anything(),
             "Stiffness JSON file for source = table (path relative to the scene file).");
       s.add("positions_per_cycle", st.positions_per_cycle, Patterns::Integer(1, 1024),

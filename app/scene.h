@@ -69,7 +69,7 @@ namespace hertzgear
 
   struct StiffnessScene
   {
-    std::string           source; // fem | table | fourier | iso6336 | hertz-analytic
+    std::string           source; // fem | table | fourier | iso6336 | hertz-analytic | potential-energy
     std::filesystem::path table_file; // resolved against the scene's folder
     std::string           table_file_entry; // as written in the scene
     int                   positions_per_cycle = 0;

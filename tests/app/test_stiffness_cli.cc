@@ -217,6 +217,54 @@ TEST(StiffnessCli, AClosedFormSourceWritesItsTableWithoutMeshingOrFe)
   EXPECT_THAT(header, HasSubstr("position,mesh_phase,ste_um,k_total_N_per_m"));
 }
 
+TEST(StiffnessCli, PotentialEnergySourceSharesTheLoadByCompatibility)
+{
+  // Requirements on Stiffness/source = potential-energy for the uncrowned pair (16 positions):
+  //  - the load shares of the pairs in contact sum to 1 within 1e-9 (the loads come from
+  //    bisections to 1e-10 of the load each) and one pair carries everything in the single-tooth
+  //    zone;
+  //  - the Hertzian stiffness is Yang & Lin's line contact, k_h = pi L E* / 2 per pair in contact
+  //    (L = 20 mm, E* = E / (2 (1 - nu^2))), exactly as the closed form says;
+  //  - the STE is the common approach: k_total = F0 / STE with F0 = T1 / r_b1, to the 10 digits
+  //    the CSV carries.
+  const fs::path out = fresh_temp_dir("stiffness_potential_energy");
+  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") +
+                               " --set Stiffness/source=potential-energy"
+                               " --set Stiffness/positions_per_cycle=16 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(out / "mesh"));
+  const auto json = nlohmann::json::parse(slurp(out / "stiffness.json"));
+  EXPECT_THAT(json.at("source").get<std::string>(), HasSubstr("potential-energy"));
+  const double pi = 3.14159265358979323846, E_star = 206000 / (2 * (1 - 0.3 * 0.3));
+  const double k_h1 = pi * 20 * E_star / 2 * 1e3; // N/m
+  const double F0   = json.at("load_N").get<double>();
+  std::istringstream csv(slurp(out / "stiffness.csv"));
+  std::string        line;
+  std::getline(csv, line);
+  int rows = 0, single = 0;
+  while (std::getline(csv, line))
+    {
+      std::vector<std::string> f;
+      std::stringstream        ls(line);
+      for (std::string c; std::getline(ls, c, ',');)
+        f.push_back(c);
+      ASSERT_EQ(f.size(), 13u) << line;
+      const int    pairs = std::stoi(f[6]);
+      const double s1 = std::stod(f[7]), s2 = std::stod(f[8]);
+      EXPECT_NEAR(s1 + s2, 1.0, 1e-9) << line;
+      if (pairs == 1)
+        {
+          ++single;
+          EXPECT_TRUE(s1 == 1.0 || s2 == 1.0) << line;
+        }
+      EXPECT_NEAR(std::stod(f[4]), pairs * k_h1, 1e-9 * pairs * k_h1) << line;
+      EXPECT_NEAR(std::stod(f[3]), F0 / (std::stod(f[2]) * 1e-6), 1e-8 * std::stod(f[3])) << line;
+      ++rows;
+    }
+  EXPECT_EQ(rows, 16);
+  EXPECT_GT(single, 0);
+}
+
 TEST(StiffnessCli, AMeshTooCoarseForTheContactBandIsAnInputError)
 {
   // Requirement: a mesh whose flank elements are coarser than the load patches of the compliance
