@@ -233,6 +233,7 @@ namespace hertzgear
       st.contact_grid_profile_points = 24;
       st.contact_grid_face_points    = 16;
       st.contact_max_iterations      = 100;
+      st.tooth_coupling              = "coupled";
       st.reference_depth_mm          = 0.0;
       st.linear_solver               = "direct";
       st.linear_solver_tolerance     = 1.0e-10;
@@ -269,6 +270,11 @@ namespace hertzgear
       s.add("contact_max_iterations", st.contact_max_iterations, Patterns::Integer(1, 100000),
             "Iteration cap of the active-set contact solver per solve (count); reaching it is a "
             "numerical failure (exit 3) with the history of the active set.");
+      s.add("tooth_coupling", st.tooth_coupling, Patterns::Selection("coupled|decoupled"),
+            "Structural compliance between different teeth of a body (source = fem): coupled "
+            "(the FE body as it is) or decoupled (a load on one tooth does not move another, "
+            "the assumption of the potential-energy method). decoupled is a study switch that "
+            "shows what the coupling of loaded teeth through the rim does; it is not a gear.");
       s.add("reference_depth_mm", st.reference_depth_mm, Patterns::Double(0.0, 10.0),
             "Depth d [mm] below the flank at which the FE compliance is read; the half-space "
             "supplies the local part above it, and FE load patches have radius d/2. 0 = "

@@ -81,6 +81,7 @@ namespace hertzgear
     int                   contact_grid_profile_points = 0;
     int                   contact_grid_face_points    = 0;
     int                   contact_max_iterations      = 0;
+    std::string           tooth_coupling; // coupled | decoupled (study switch)
     double                reference_depth_mm          = 0; // 0 = 3 x band element size
     std::string           linear_solver; // direct | amg-cg
     double                linear_solver_tolerance = 0;

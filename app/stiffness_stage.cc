@@ -392,7 +392,15 @@ namespace hertzgear
                                scene.pinion_material.poisson_ratio};
     const fem::BodyMaterial m2{scene.gear_material.youngs_modulus_MPa,
                                scene.gear_material.poisson_ratio};
-    const fem::MeshCycle    cycle(*kin, m1, m2, bodies[0]->compliance(), bodies[1]->compliance(), cs);
+    // tooth_coupling = decoupled: the study of what the coupling of loaded teeth does.
+    const bool                          decoupled = scene.stiffness.tooth_coupling == "decoupled";
+    const fem::DecoupledFlankCompliance decoupled_pinion(bodies[0]->compliance());
+    const fem::DecoupledFlankCompliance decoupled_gear(bodies[1]->compliance());
+    const fem::FlankCompliance &pinion_compliance =
+      decoupled ? static_cast<const fem::FlankCompliance &>(decoupled_pinion) : bodies[0]->compliance();
+    const fem::FlankCompliance &gear_compliance =
+      decoupled ? static_cast<const fem::FlankCompliance &>(decoupled_gear) : bodies[1]->compliance();
+    const fem::MeshCycle cycle(*kin, m1, m2, pinion_compliance, gear_compliance, cs);
     {
       PhaseTimer::Scope scope(timer, "contact over the mesh cycle");
       auto              t0 = std::chrono::steady_clock::now();
@@ -416,7 +424,7 @@ namespace hertzgear
         fem::MeshCycleSettings c2 = cs;
         c2.profile_cells          = static_cast<unsigned int>(profile);
         c2.face_cells             = static_cast<unsigned int>(face);
-        const fem::MeshCycle other(*kin, m1, m2, bodies[0]->compliance(), bodies[1]->compliance(), c2);
+        const fem::MeshCycle other(*kin, m1, m2, pinion_compliance, gear_compliance, c2);
         const auto           t0 = std::chrono::steady_clock::now();
         result.extra_cycles.push_back(other.run(result.load_N));
         std::ostringstream line;
@@ -513,6 +521,8 @@ namespace hertzgear
     result.metadata["linear_solver"]          = scene.stiffness.linear_solver;
     if (scene.stiffness.linear_solver != "direct")
       result.metadata["linear_solver_tolerance"] = scene.stiffness.linear_solver_tolerance;
+    if (scene.stiffness.tooth_coupling != "coupled")
+      result.metadata["tooth_coupling"] = scene.stiffness.tooth_coupling;
     result.metadata["dofs"]                   = n_dofs_total;
     result.metadata["reference_depth_mm"]     = table.reference_depth_mm;
     result.metadata["load_patch_radius_mm"]   = table.patch_radius_mm;

@@ -65,6 +65,23 @@ namespace hertzgear::fem
     double depth;
   };
 
+  // A body whose teeth do not feel each other's loads: the compliance of `body` between points
+  // of the same tooth, zero between different teeth (Stiffness/tooth_coupling = decoupled).
+  class DecoupledFlankCompliance : public FlankCompliance
+  {
+  public:
+    explicit DecoupledFlankCompliance(const FlankCompliance &body) : base(body) {}
+    double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const override
+    {
+      return reading.tooth == load.tooth ? base.compliance_mm_per_N(reading, load) : 0.0;
+    }
+    double reference_depth_mm() const override { return base.reference_depth_mm(); }
+    bool   covers_tooth(const int tooth) const override { return base.covers_tooth(tooth); }
+
+  private:
+    const FlankCompliance &base;
+  };
+
   struct BodyMaterial
   {
     double youngs_modulus_MPa = 206000;
