@@ -237,7 +237,8 @@ namespace hertzgear
     {
       // The clamped elasticity matrix is symmetric positive definite (the constraints keep the
       // symmetry): Cholesky needs half the memory and flops of LU.
-      create_mumps_cholesky(factorisation->ksp, system_matrix, mpi_communicator);
+      create_mumps_cholesky(factorisation->ksp, system_matrix, mpi_communicator,
+                            parameters.factorisation_memory_limit_MB);
     }
 
     // CG on the SPD stiffness matrix, preconditioned by PETSc's smoothed-aggregation AMG. The

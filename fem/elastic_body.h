@@ -88,6 +88,9 @@ namespace hertzgear
         unsigned int                linear_solver_max_iterations = 2000;
         // direct only: right-hand sides per block substitution; 0 = as many as fit in 256 MB.
         unsigned int                block_columns = 0;
+        // direct only: most memory [MB] MUMPS may allocate per process for the factorisation;
+        // 0 = what is available on the node now (fem/petsc_ksp.h, memory guard).
+        long                        factorisation_memory_limit_MB = 0;
       };
 
       // "direct" / "amg-cg" (the scene's spelling) <-> LinearSolver; InputError for anything else.

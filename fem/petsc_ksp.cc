@@ -4,6 +4,10 @@
 
 #include <petscmat.h>
 
+#include <algorithm>
+#include <fstream>
+#include <limits>
+#include <sstream>
 #include <string>
 
 namespace hertzgear
@@ -17,7 +21,67 @@ namespace hertzgear
 
     namespace
     {
-      void create_mumps(KSP &ksp, Mat A, MPI_Comm comm, const PCType factorisation)
+      // A number from the first line of a file (cgroup files: "max" or bytes); -1 if none.
+      long long read_bytes(const char *path)
+      {
+        std::ifstream in(path);
+        std::string   word;
+        if (!(in >> word) || word == "max")
+          return -1;
+        try
+          {
+            return std::stoll(word);
+          }
+        catch (...)
+          {
+            return -1;
+          }
+      }
+    } // namespace
+
+    long available_memory_MB_per_rank(MPI_Comm comm)
+    {
+      long long available = std::numeric_limits<long long>::max();
+      {
+        std::ifstream in("/proc/meminfo");
+        std::string   key;
+        long long     kB = 0;
+        std::string   unit;
+        while (in >> key >> kB >> unit)
+          if (key == "MemAvailable:")
+            {
+              available = kB * 1024;
+              break;
+            }
+      }
+      const long long v2_max = read_bytes("/sys/fs/cgroup/memory.max");
+      const long long v2_cur = read_bytes("/sys/fs/cgroup/memory.current");
+      if (v2_max > 0 && v2_cur >= 0)
+        available = std::min(available, v2_max - v2_cur);
+      const long long v1_max = read_bytes("/sys/fs/cgroup/memory/memory.limit_in_bytes");
+      const long long v1_cur = read_bytes("/sys/fs/cgroup/memory/memory.usage_in_bytes");
+      if (v1_max > 0 && v1_max < (1LL << 60) && v1_cur >= 0)
+        available = std::min(available, v1_max - v1_cur);
+      MPI_Comm node;
+      int      ranks_on_node = 1;
+      if (MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) == MPI_SUCCESS)
+        {
+          MPI_Comm_size(node, &ranks_on_node);
+          MPI_Comm_free(&node);
+        }
+      if (available == std::numeric_limits<long long>::max())
+        return std::numeric_limits<int>::max(); // unknown: no limit
+      // The smallest share over the ranks, so that every rank applies the same limit.
+      long share = static_cast<long>(std::max<long long>(1, available / ranks_on_node / (1024 * 1024)));
+      long smallest = share;
+      MPI_Allreduce(&share, &smallest, 1, MPI_LONG, MPI_MIN, comm);
+      return smallest;
+    }
+
+    namespace
+    {
+      void create_mumps(KSP &ksp, Mat A, MPI_Comm comm, const PCType factorisation,
+                        const long memory_limit_MB)
       {
         check_petsc(KSPCreate(comm, &ksp), "KSPCreate");
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
@@ -27,11 +91,21 @@ namespace hertzgear
         check_petsc(PCSetType(pc, factorisation), "PCSetType");
         check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
         check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+        // The memory guard (ICNTL(23)) unless PETSC_OPTIONS sets it.
+        check_petsc(PCFactorSetUpMatSolverType(pc), "PCFactorSetUpMatSolverType");
+        Mat F;
+        check_petsc(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+        PetscBool user_limit = PETSC_FALSE;
+        check_petsc(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_23", &user_limit),
+                    "PetscOptionsHasName");
+        long limit_MB = memory_limit_MB > 0 ? memory_limit_MB : available_memory_MB_per_rank(comm);
+        limit_MB      = std::min<long>(limit_MB, std::numeric_limits<int>::max());
+        if (!user_limit)
+          check_petsc(MatMumpsSetIcntl(F, 23, static_cast<PetscInt>(limit_MB)),
+                      "MatMumpsSetIcntl(23)");
         check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
         // PETSc does not stop on a failed MUMPS factorisation; a later substitution would fail
         // with a misleading INFOG(1) = -3. Say what MUMPS reported, now.
-        Mat F;
-        check_petsc(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
         MatFactorError error = MAT_FACTOR_NOERROR;
         check_petsc(MatFactorGetError(F, &error), "MatFactorGetError");
         if (error != MAT_FACTOR_NOERROR)
@@ -56,9 +130,24 @@ namespace hertzgear
                   break;
                 case -13:
                 case -19:
-                  why = "MUMPS ran out of memory: use a coarser Stiffness/fe_level or "
-                        "Stiffness/fe_degree, more MPI ranks on more memory, or "
-                        "Stiffness/linear_solver = amg-cg";
+                  {
+                    // INFOG(16): the analysis' estimate of the largest per-process memory of
+                    // the factorisation [MB]; INFOG(17): its sum over the processes.
+                    PetscInt est_max = 0, est_sum = 0, limit = 0;
+                    MatMumpsGetInfog(F, 16, &est_max);
+                    MatMumpsGetInfog(F, 17, &est_sum);
+                    MatMumpsGetIcntl(F, 23, &limit);
+                    std::ostringstream os;
+                    os << "MUMPS " << (infog1 == -19 ? "stopped before the factorisation: it " :
+                                                       "ran out of memory; it ")
+                       << "estimates " << est_max << " MB per process (" << est_sum
+                       << " MB in all) against " << limit
+                       << " MB per process (ICNTL(23): the memory available when the "
+                          "factorisation started, or PETSC_OPTIONS -mat_mumps_icntl_23); use a coarser Stiffness/fe_level, "
+                          "Stiffness/fe_degree or Mesh/face_width_layers, more MPI ranks on "
+                          "more memory, or Stiffness/linear_solver = amg-cg";
+                    why = os.str();
+                  }
                   break;
                 case -10:
                   why = "the matrix is numerically singular: is the body clamped?";
@@ -73,15 +162,15 @@ namespace hertzgear
       }
     } // namespace
 
-    void create_mumps_lu(KSP &ksp, Mat A, MPI_Comm comm)
+    void create_mumps_lu(KSP &ksp, Mat A, MPI_Comm comm, const long memory_limit_MB)
     {
-      create_mumps(ksp, A, comm, PCLU);
+      create_mumps(ksp, A, comm, PCLU, memory_limit_MB);
     }
 
-    void create_mumps_cholesky(KSP &ksp, Mat A, MPI_Comm comm)
+    void create_mumps_cholesky(KSP &ksp, Mat A, MPI_Comm comm, const long memory_limit_MB)
     {
       check_petsc(MatSetOption(A, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
-      create_mumps(ksp, A, comm, PCCHOLESKY);
+      create_mumps(ksp, A, comm, PCCHOLESKY, memory_limit_MB);
     }
 
     void mumps_block_solve(KSP ksp, const std::vector<Vec> &rhs, const std::vector<Vec> &solution)

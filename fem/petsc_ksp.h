@@ -14,11 +14,23 @@ namespace hertzgear
     // Creates `ksp` on `comm` as a MUMPS LU of A (KSPPREONLY + PCLU) and factorises it now, once:
     // every KSPSolve afterwards is one forward/backward substitution. MUMPS controls (ordering,
     // memory) stay tunable through PETSC_OPTIONS, e.g. "-mat_mumps_icntl_7 5" for METIS ordering.
-    void create_mumps_lu(KSP &ksp, Mat A, MPI_Comm comm);
+    //
+    // Memory guard: MUMPS may allocate at most `memory_limit_MB` per process for the
+    // factorisation (its ICNTL(23)); 0 = the memory available to this process now
+    // (available_memory_MB_per_rank). A factorisation whose analysis estimates more stops before
+    // it allocates, as a NumericalError that names the estimate and the limit, instead of an
+    // allocation failure after minutes or the kernel's OOM killer. PETSC_OPTIONS
+    // "-mat_mumps_icntl_23 N" overrides the limit.
+    void create_mumps_lu(KSP &ksp, Mat A, MPI_Comm comm, long memory_limit_MB = 0);
 
     // The same with a MUMPS Cholesky (LDL^T) factorisation of a symmetric positive definite A
     // (KSPPREONLY + PCCHOLESKY, A flagged MAT_SPD): half the factor memory and flops of the LU.
-    void create_mumps_cholesky(KSP &ksp, Mat A, MPI_Comm comm);
+    void create_mumps_cholesky(KSP &ksp, Mat A, MPI_Comm comm, long memory_limit_MB = 0);
+
+    // Memory [MB] this process may still use: MemAvailable of /proc/meminfo, capped by the
+    // cgroup (v2 memory.max - memory.current, or v1 limit - usage) when one is set, shared
+    // equally by the ranks of `comm` on this node. At least 1.
+    long available_memory_MB_per_rank(MPI_Comm comm);
 
     // Solves A X = B for several right-hand sides at once with the factors held by `ksp` (made
     // by create_mumps_lu or create_mumps_cholesky): the columns go to MUMPS as one dense block, so

@@ -2,6 +2,7 @@
 // Maxwell-Betti reciprocity of the compliance, equality of distributed and serial runs, and the
 // AMG-preconditioned CG solver against the direct one.
 #include "fem/elastic_body.h"
+#include "fem/petsc_ksp.h"
 
 #include "common/errors.h"
 
@@ -462,6 +463,38 @@ TEST(ElasticBody, AmgCgMatchesDirectPatchComplianceWithinTolerance)
   const std::vector<double> angles_3d{0.0, 0.7, 1.6, 2.4};
   EXPECT_LE(amg_against_direct<3>(1, 1, 1e-8, angles_3d), 1.0);
   EXPECT_LE(amg_against_direct<3>(2, 1, 1e-8, angles_3d), 1.0);
+}
+
+// A direct factorisation whose MUMPS analysis estimates more memory than the process may use shall
+// stop before it allocates, as a NumericalError (exit 3) that names the estimate, the limit and
+// the remedies, instead of an allocation failure after minutes or the kernel's OOM killer. A
+// limit of 1 MB is below any MUMPS estimate; the automatic limit (the memory available now) lets
+// the same body factorise.
+TEST(ElasticBody, FactorisationBeyondTheMemoryLimitStopsWithTheEstimate)
+{
+  parallel::distributed::Triangulation<2> tria(MPI_COMM_SELF);
+  make_shell(tria, 4);
+  auto p                          = parameters_2d(2);
+  p.factorisation_memory_limit_MB = 1;
+  try
+    {
+      ElasticBody<2> body(tria, p);
+      body.run();
+      ADD_FAILURE() << "a factorisation beyond its memory limit went ahead";
+    }
+  catch (const hertzgear::NumericalError &e)
+    {
+      const std::string what = e.what();
+      std::cout << "    " << what << "\n";
+      EXPECT_NE(what.find("INFOG(1) = -19"), std::string::npos);
+      EXPECT_NE(what.find("against 1 MB"), std::string::npos);
+      EXPECT_NE(what.find("estimates"), std::string::npos);
+      EXPECT_NE(what.find("Stiffness/fe_level"), std::string::npos);
+    }
+  p.factorisation_memory_limit_MB = 0;
+  ElasticBody<2> body(tria, p);
+  EXPECT_NO_THROW(body.run());
+  EXPECT_GT(hertzgear::fem::available_memory_MB_per_rank(MPI_COMM_SELF), 1);
 }
 
 // An amg-cg solve that does not reach its tolerance within the iteration cap shall end with a
