@@ -187,8 +187,13 @@ namespace hertzgear
       // quantity itself would change with the level: k_mh of line contact depends on d).
       const double depth_mm = reference_depth_mm(base);
       progress_line("accuracy", msg("reference depth held at ", depth_mm, " mm on every level"));
-      for (const int level : levels)
+      // The finest level first: a level that does not fit the machine (the MUMPS memory guard,
+      // fem/petsc_ksp.h) stops the study at once, not after the coarser levels have run.
+      progress_line("accuracy", "finest level first, so that one too large for the machine stops "
+                                "the study before the others have run");
+      for (auto it = levels.rbegin(); it != levels.rend(); ++it)
         {
+          const int level = *it;
           std::vector<std::string> overrides = ctx.overrides;
           overrides.push_back("Stiffness/fe_level=" + std::to_string(level));
           overrides.push_back("Stiffness/reference_depth_mm=" + msg(depth_mm));
@@ -263,6 +268,9 @@ namespace hertzgear
             }
         }
       (void)module;
+      // Run finest first; the table and the extrapolation go from coarse to fine.
+      std::sort(fe_rungs.begin(), fe_rungs.end(),
+                [](const Rung &a, const Rung &b) { return a.level < b.level; });
 
       // Extrapolations from the three finest rungs of each ladder.
       const auto extrapolate = [&](const std::vector<Rung> &rungs, double Rung::*q,
