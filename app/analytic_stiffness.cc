@@ -13,6 +13,7 @@
 #include <functional>
 #include <iomanip>
 #include <sstream>
+#include <utility>
 
 namespace hertzgear
 {
@@ -29,6 +30,8 @@ namespace hertzgear
 
     struct Model
     {
+      explicit Model(const meshing::PairKinematics &kinematics) : pair(kinematics) {}
+
       const meshing::PairKinematics &pair;
       double E_star_MPa = 0, face_mm = 0, kappa_lead_per_mm = 0, n = 1, k_r1_N_per_mm = 0;
       // Uncrowned flanks: Yang & Lin's linear line contact (potential-energy source) instead of
@@ -156,7 +159,7 @@ namespace hertzgear
     const double F0_N = scene.operating.torque_Nm * 1e3 / pair.pinion().base_radius_mm();
     const double eps  = pair.contact_ratio();
 
-    Model m{pair, 0, 0, 0, 1, 0, false, {}};
+    Model m(pair);
     m.E_star_MPa = hertz::contact_modulus(
       {scene.pinion_material.youngs_modulus_MPa, scene.pinion_material.poisson_ratio},
       {scene.gear_material.youngs_modulus_MPa, scene.gear_material.poisson_ratio});
@@ -235,49 +238,41 @@ namespace hertzgear
         const bool pe = st.source == "potential-energy";
         if (pe)
           {
-            // Structural stiffness of a pair at each contact point from both teeth's
-            // potential-energy compliance (meshing/potential_energy.h).
-            m.yang_lin   = true;
-            m.structural = [&](const double roll_mm) {
+            // Both teeth's potential-energy compliance at the contact point at roll distance s
+            // (meshing/potential_energy.h): the pinion at roll angle s / r_b1, the gear at
+            // (L - s) / r_b2.
+            const auto teeth = [&](const double roll_mm, const bool plane_strain) {
               const double u1 = roll_mm / pair.pinion().base_radius_mm();
               const double u2 = (pair.line_of_action_length_mm() - roll_mm) / pair.gear().base_radius_mm();
-              const auto   c1 = meshing::tooth_compliance(pair.pinion(), u1,
-                                                          scene.pinion_material.youngs_modulus_MPa,
-                                                          scene.pinion_material.poisson_ratio);
-              const auto   c2 = meshing::tooth_compliance(pair.gear(), u2,
-                                                          scene.gear_material.youngs_modulus_MPa,
-                                                          scene.gear_material.poisson_ratio);
-              return 1.0 / (c1.total_mm_per_N() + c2.total_mm_per_N());
-            };
-            // The single-pair stiffness at the pitch point, each tooth's parts [N/m].
-            const double s_C = pair.point('C').roll_distance_mm;
-            const auto   c1  = meshing::tooth_compliance(pair.pinion(), s_C / pair.pinion().base_radius_mm(),
+              return std::pair{meshing::tooth_compliance(pair.pinion(), u1,
                                                          scene.pinion_material.youngs_modulus_MPa,
-                                                         scene.pinion_material.poisson_ratio);
-            const auto c2 = meshing::tooth_compliance(
-              pair.gear(), (pair.line_of_action_length_mm() - s_C) / pair.gear().base_radius_mm(),
-              scene.gear_material.youngs_modulus_MPa, scene.gear_material.poisson_ratio);
-            const auto parts = [](const meshing::ToothCompliance &c) {
+                                                         scene.pinion_material.poisson_ratio, plane_strain),
+                               meshing::tooth_compliance(pair.gear(), u2,
+                                                         scene.gear_material.youngs_modulus_MPa,
+                                                         scene.gear_material.poisson_ratio, plane_strain)};
+            };
+            const auto pair_stiffness = [](const auto &t) {
+              return 1.0 / (t.first.total_mm_per_N() + t.second.total_mm_per_N());
+            };
+            m.yang_lin   = true;
+            m.structural = [=](const double roll_mm) { return pair_stiffness(teeth(roll_mm, false)); };
+            // The single pair at the pitch point, each tooth's parts [N/m].
+            const double s_C   = pair.point('C').roll_distance_mm;
+            const auto   pitch = teeth(s_C, false);
+            const auto   parts = [](const meshing::ToothCompliance &c) {
               return nlohmann::json{{"bending_N_per_m", 1e3 / c.bending_mm_per_N},
                                     {"shear_N_per_m", 1e3 / c.shear_mm_per_N},
                                     {"axial_N_per_m", 1e3 / c.axial_mm_per_N},
                                     {"fillet_foundation_N_per_m", 1e3 / c.fillet_mm_per_N},
                                     {"load_angle_deg", c.load_angle_rad * 180 / pi}};
             };
-            model["pitch_point_pinion_tooth"] = parts(c1);
-            model["pitch_point_gear_tooth"]   = parts(c2);
-            model["pitch_point_pair_structural_N_per_m"] =
-              1e3 / (c1.total_mm_per_N() + c2.total_mm_per_N());
+            model["pitch_point_pinion_tooth"]            = parts(pitch.first);
+            model["pitch_point_gear_tooth"]              = parts(pitch.second);
+            model["pitch_point_pair_structural_N_per_m"] = pair_stiffness(pitch) * 1e3;
             model["pitch_point_pair_N_per_m"] =
-              F0_N / m.pair_approach_mm(F0_N, s_C, 1.0 / (c1.total_mm_per_N() + c2.total_mm_per_N())) * 1e3;
-            const auto c1s = meshing::tooth_compliance(pair.pinion(), s_C / pair.pinion().base_radius_mm(),
-                                                       scene.pinion_material.youngs_modulus_MPa,
-                                                       scene.pinion_material.poisson_ratio, true);
-            const auto c2s = meshing::tooth_compliance(
-              pair.gear(), (pair.line_of_action_length_mm() - s_C) / pair.gear().base_radius_mm(),
-              scene.gear_material.youngs_modulus_MPa, scene.gear_material.poisson_ratio, true);
+              F0_N / m.pair_approach_mm(F0_N, s_C, pair_stiffness(pitch)) * 1e3;
             model["pitch_point_pair_structural_plane_strain_N_per_m"] =
-              1e3 / (c1s.total_mm_per_N() + c2s.total_mm_per_N());
+              pair_stiffness(teeth(s_C, true)) * 1e3;
             model["contact"] = m.crowned() ? "elliptical Hertz (crowned)" : "Yang & Lin line contact";
           }
         std::vector<double> kh, kr, ste;

@@ -69,10 +69,12 @@ namespace hertzgear
           MPI_Comm_size(node, &ranks_on_node);
           MPI_Comm_free(&node);
         }
-      if (available == std::numeric_limits<long long>::max())
-        return std::numeric_limits<int>::max(); // unknown: no limit
-      // The smallest share over the ranks, so that every rank applies the same limit.
-      long share = static_cast<long>(std::max<long long>(1, available / ranks_on_node / (1024 * 1024)));
+      // Unknown (no /proc/meminfo): no limit. The smallest share over the ranks, so that every
+      // rank applies the same limit (every rank takes part in the reduction).
+      const long share =
+        available == std::numeric_limits<long long>::max() ?
+          std::numeric_limits<int>::max() :
+          static_cast<long>(std::max<long long>(1, available / ranks_on_node / (1024 * 1024)));
       long smallest = share;
       MPI_Allreduce(&share, &smallest, 1, MPI_LONG, MPI_MIN, comm);
       return smallest;
