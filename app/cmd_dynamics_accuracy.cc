@@ -96,7 +96,8 @@ namespace hertzgear
     }
 
     std::vector<Case> cases;
-    for (const auto kind : {IntegratorKind::cvode_bdf, IntegratorKind::ida, IntegratorKind::arkode_erk})
+    for (const auto kind : {IntegratorKind::cvode_bdf, IntegratorKind::radau_iia, IntegratorKind::ida,
+                            IntegratorKind::arkode_erk})
       {
         if (dae && kind != IntegratorKind::ida)
           continue;

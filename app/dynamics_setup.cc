@@ -129,6 +129,10 @@ namespace hertzgear
     auto &r                          = s.run;
     r.integrator.kind                = dynamics::integrator_kind_from_name(d.integrator);
     r.integrator.relative_tolerance  = d.relative_tolerance;
+    HG_REQUIRE_INPUT(d.radau_stages == 0 || (d.radau_stages >= 3 && d.radau_stages % 2 == 1),
+                     "Dynamics/radau_stages = ", d.radau_stages, " must be 0 (by the tolerance) or "
+                     "3, 5, 7 or 9");
+    r.integrator.stages              = d.radau_stages;
     r.integrator.absolute_tolerance  = d.absolute_tolerance_m;
     r.periods                        = d.periods;
     r.transient_periods              = d.transient_periods;

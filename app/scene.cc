@@ -326,6 +326,7 @@ namespace hertzgear
 
       auto &d                         = sc.dynamics;
       d.integrator                    = "cvode-bdf";
+      d.radau_stages                  = 0;
       d.relative_tolerance            = 1.0e-8;
       d.absolute_tolerance_m          = 1.0e-13;
       d.steps_per_period              = 100;
@@ -344,9 +345,14 @@ namespace hertzgear
       d.pinion_inertia_kg_m2          = 0.0;
       d.gear_inertia_kg_m2            = 0.0;
       s.enter("Dynamics", "Integration of the gear-pair equations.");
-      s.add("integrator", d.integrator, Patterns::Selection("rk4|arkode-erk|cvode-bdf|ida"),
+      s.add("integrator", d.integrator, Patterns::Selection("rk4|arkode-erk|cvode-bdf|ida|radau-iia"),
             "Time integrator: rk4 (the paper's fixed step), arkode-erk (adaptive explicit RK), "
-            "cvode-bdf (stiff, adaptive; default) or ida (DAE form, needed when c = 0).");
+            "cvode-bdf (stiff, adaptive; default), ida (DAE form, needed when c = 0) or radau-iia "
+            "(stiff, adaptive, order 5-13; the fastest at tight tolerances, see "
+            "docs/accuracy-dynamics.md).");
+      s.add("radau_stages", d.radau_stages, Patterns::Integer(0, 9),
+            "Stages s of radau-iia (count: 3, 5, 7 or 9, order 2s - 1; 0 chooses by the tolerance: "
+            "3 above 1e-5, 5 down to 1e-10, 7 below).");
       s.add("relative_tolerance", d.relative_tolerance, Patterns::Double(1.0e-14, 1.0e-2),
             "Relative tolerance of the adaptive integrators [dimensionless].");
       s.add("absolute_tolerance_m", d.absolute_tolerance_m, Patterns::Double(1.0e-20, 1.0e-3),

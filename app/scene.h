@@ -96,7 +96,8 @@ namespace hertzgear
 
   struct DynamicsScene
   {
-    std::string integrator; // rk4 | arkode-erk | cvode-bdf | ida
+    std::string integrator; // rk4 | arkode-erk | cvode-bdf | ida | radau-iia
+    int         radau_stages         = 0; // 0: by the tolerance
     double      relative_tolerance   = 0;
     double      absolute_tolerance_m = 0;
     int         steps_per_period     = 0;

@@ -11,16 +11,30 @@ namespace hertzgear::dynamics
   namespace
   {
     double sign(const double v) { return (v > 0.0) - (v < 0.0); }
+    // a^p for a >= 0, with the exponents of line and point contact (1, 3/2 and their
+    // derivatives' 0, 1/2) written out: the right-hand side evaluates them at every stage.
+    double power(const double a, const double p)
+    {
+      if (p == 1.0)
+        return a;
+      if (p == 1.5)
+        return a * std::sqrt(a);
+      if (p == 0.5)
+        return std::sqrt(a);
+      if (p == 0.0)
+        return 1.0;
+      return std::pow(a, p);
+    }
     // G(delta) = sign(delta)|delta|^n, H(delta) = |delta|^n and their derivatives.
-    double G(const double d, const double n) { return sign(d) * std::pow(std::abs(d), n); }
-    double H(const double d, const double n) { return std::pow(std::abs(d), n); }
+    double G(const double d, const double n) { return sign(d) * power(std::abs(d), n); }
+    double H(const double d, const double n) { return power(std::abs(d), n); }
     double G_prime(const double d, const double n)
     {
-      return n == 1.0 ? 1.0 : n * std::pow(std::abs(d), n - 1.0);
+      return n == 1.0 ? 1.0 : n * power(std::abs(d), n - 1.0);
     }
     double H_prime(const double d, const double n)
     {
-      return n == 1.0 ? sign(d) : n * sign(d) * std::pow(std::abs(d), n - 1.0);
+      return n == 1.0 ? sign(d) : n * sign(d) * power(std::abs(d), n - 1.0);
     }
   } // namespace
 
@@ -110,6 +124,11 @@ namespace hertzgear::dynamics
     if (!prm.effects.rest_stiffness_variation)
       prm.stiffness.k_rest_N_per_m = prm.stiffness.k_rest_N_per_m.constant_part();
 
+    k_rest_series  = Harmonics(prm.stiffness.k_rest_N_per_m);
+    k_hertz_series = Harmonics(prm.stiffness.k_hertz_N_per_m_pow_n);
+    if (prm.effects.ste_excitation)
+      ste_series = Harmonics(prm.stiffness.unloaded_ste_m);
+
     n_exp           = prm.stiffness.hertz_exponent;
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
@@ -147,30 +166,71 @@ namespace hertzgear::dynamics
 
   double GearPairModel::mesh_period() const { return 2.0 * M_PI / prm.mesh_frequency_rad_per_s; }
 
+  GearPairModel::Harmonics::Harmonics(const FourierSeries &series) : mean(series.mean)
+  {
+    for (unsigned j = 0; j < series.amplitudes.size(); ++j)
+      {
+        a.push_back(series.amplitudes[j] * std::cos(series.phases_rad[j]));
+        b.push_back(series.amplitudes[j] * std::sin(series.phases_rad[j]));
+      }
+  }
+
+  // cos(j theta) and sin(j theta) by the angle-addition recurrence from one cos/sin pair; its
+  // rounding error grows like j eps, far below any tolerance for the harmonics a table has.
+  double GearPairModel::Harmonics::value(const double theta) const
+  {
+    double v = mean;
+    if (a.empty())
+      return v;
+    const double c1 = std::cos(theta), s1 = std::sin(theta);
+    double       cj = c1, sj = s1;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      {
+        v += a[j] * cj + b[j] * sj;
+        const double c_next = cj * c1 - sj * s1;
+        sj                  = sj * c1 + cj * s1;
+        cj                  = c_next;
+      }
+    return v;
+  }
+
+  double GearPairModel::Harmonics::derivative(const double theta) const
+  {
+    if (a.empty())
+      return 0.0;
+    double       d  = 0.0;
+    const double c1 = std::cos(theta), s1 = std::sin(theta);
+    double       cj = c1, sj = s1;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      {
+        d += double(j + 1) * (b[j] * cj - a[j] * sj);
+        const double c_next = cj * c1 - sj * s1;
+        sj                  = sj * c1 + cj * s1;
+        cj                  = c_next;
+      }
+    return d;
+  }
+
   double GearPairModel::k_rest(const double t) const
   {
-    return prm.stiffness.k_rest_N_per_m.value(prm.mesh_frequency_rad_per_s * t);
+    return k_rest_series.value(prm.mesh_frequency_rad_per_s * t);
   }
   double GearPairModel::k_rest_rate(const double t) const
   {
-    return prm.mesh_frequency_rad_per_s *
-           prm.stiffness.k_rest_N_per_m.derivative(prm.mesh_frequency_rad_per_s * t);
+    return prm.mesh_frequency_rad_per_s * k_rest_series.derivative(prm.mesh_frequency_rad_per_s * t);
   }
   double GearPairModel::k_hertz(const double t) const
   {
-    return prm.stiffness.k_hertz_N_per_m_pow_n.value(prm.mesh_frequency_rad_per_s * t);
+    return k_hertz_series.value(prm.mesh_frequency_rad_per_s * t);
   }
   double GearPairModel::k_hertz_rate(const double t) const
   {
-    return prm.mesh_frequency_rad_per_s *
-           prm.stiffness.k_hertz_N_per_m_pow_n.derivative(prm.mesh_frequency_rad_per_s * t);
+    return prm.mesh_frequency_rad_per_s * k_hertz_series.derivative(prm.mesh_frequency_rad_per_s * t);
   }
 
   double GearPairModel::excitation(const double t) const
   {
-    return prm.effects.ste_excitation ?
-             prm.stiffness.unloaded_ste_m.value(prm.mesh_frequency_rad_per_s * t) :
-             0.0;
+    return prm.effects.ste_excitation ? ste_series.value(prm.mesh_frequency_rad_per_s * t) : 0.0;
   }
 
   double GearPairModel::quasi_static_penetration(const double f, const double k,
@@ -212,7 +272,7 @@ namespace hertzgear::dynamics
     const double w = prm.mesh_frequency_rad_per_s;
     const double p = y[0] - excitation(t);
     const double p_dot =
-      y[1] - (prm.effects.ste_excitation ? w * prm.stiffness.unloaded_ste_m.derivative(w * t) : 0.0);
+      y[1] - (prm.effects.ste_excitation ? w * ste_series.derivative(w * t) : 0.0);
     r.zone = b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
     if (r.zone != 0 || b_c == 0.0)
       {
@@ -362,7 +422,15 @@ namespace hertzgear::dynamics
     else if (n_root_functions > (has_delta_state ? 1u : 0u))
       g[i++] = p;
     if (has_delta_state)
-      g[i++] = y[2];
+      {
+        // The layer's own transition (it opens when delta returns to 0 in a rebound, closes when
+        // delta leaves 0 in a contact zone) matters only inside a contact zone. In the backlash
+        // the open layer relaxes to delta = 0 with the time constant c/k, and its rounding-level
+        // sign changes are no events: there the function is |p| - b_c < 0 instead, which meets
+        // delta (~0 after the relaxation) continuously at the zone boundary.
+        const int zone = b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
+        g[i++]         = zone != 0 ? zone * y[2] : std::abs(p) - b_c;
+      }
   }
 
   bool GearPairModel::handle_event(const double t, double *y, const int *directions)

@@ -12,6 +12,8 @@ namespace hertzgear::dynamics
   std::unique_ptr<Integrator> make_cvode_bdf(const IntegratorSettings &settings);
   std::unique_ptr<Integrator> make_arkode_dirk(const IntegratorSettings &settings);
   std::unique_ptr<Integrator> make_ida(const IntegratorSettings &settings);
+  // Defined in radau_integrator.cc.
+  std::unique_ptr<Integrator> make_radau_iia(const IntegratorSettings &settings);
 
   IntegratorKind integrator_kind_from_name(const std::string &name)
   {
@@ -25,7 +27,10 @@ namespace hertzgear::dynamics
       return IntegratorKind::arkode_dirk;
     if (name == "ida")
       return IntegratorKind::ida;
-    throw InputError(msg("unknown integrator '", name, "' (rk4 | arkode-erk | arkode-dirk | cvode-bdf | ida)"));
+    if (name == "radau-iia")
+      return IntegratorKind::radau_iia;
+    throw InputError(msg("unknown integrator '", name,
+                         "' (rk4 | arkode-erk | arkode-dirk | cvode-bdf | ida | radau-iia)"));
   }
 
   std::string integrator_name(const IntegratorKind kind)
@@ -42,6 +47,8 @@ namespace hertzgear::dynamics
           return "arkode-dirk";
         case IntegratorKind::ida:
           return "ida";
+        case IntegratorKind::radau_iia:
+          return "radau-iia";
       }
     return "?";
   }
@@ -178,6 +185,8 @@ namespace hertzgear::dynamics
           return make_arkode_dirk(settings);
         case IntegratorKind::ida:
           return make_ida(settings);
+        case IntegratorKind::radau_iia:
+          return make_radau_iia(settings);
       }
     throw InputError("unknown integrator");
   }

@@ -1,6 +1,7 @@
 #pragma once
-// Time integrators for an OdeSystem: the paper's fixed-step RK4 and three SUNDIALS integrators
-// (ARKODE explicit RK, CVODE BDF with a dense Jacobian, IDA for the residual/DAE form). The
+// Time integrators for an OdeSystem: the paper's fixed-step RK4, three SUNDIALS integrators
+// (ARKODE explicit RK, CVODE BDF with a dense Jacobian, IDA for the residual/DAE form) and a
+// Radau IIA collocation of high order for small stiff systems (radau_integrator.cc). The
 // adaptive ones locate every root of the system's root functions and restart cleanly there.
 #include "dynamics/ode_system.h"
 
@@ -17,7 +18,8 @@ namespace hertzgear::dynamics
     arkode_erk,
     cvode_bdf,
     arkode_dirk,
-    ida
+    ida,
+    radau_iia
   };
 
   IntegratorKind     integrator_kind_from_name(const std::string &name); // rk4 | arkode-erk | ...
@@ -35,6 +37,7 @@ namespace hertzgear::dynamics
     // cvode-bdf: BDF orders 3-5 are unstable for lightly damped modes near the imaginary axis
     // (the mesh mode with zeta ~ 0.015); stability limit detection lowers the order there.
     bool           stability_limit_detection = true;
+    int            stages                = 0; // radau-iia: 3, 5, 7 or 9; 0 = by the tolerance
   };
 
   struct IntegratorStats

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""SciPy solve_ivp (LSODA) on the equations of `hertzgear dynamics`, against hertzgear's cvode-bdf.
+"""SciPy solve_ivp (LSODA) on the equations of `hertzgear dynamics`, against hertzgear's cvode-bdf
+and radau-iia.
 
 The same model and coefficients as data/scenes/paper_crowned_fourier.prm (dynamic Hertzian layer
 with Hunt-Crossley damping, backlash, k_h as a 4-harmonic Fourier series, constant k, the scene's
@@ -9,6 +10,7 @@ steady window and the largest error of the Poincare points. The ratio is reporte
 accuracy: each LSODA run against the cheapest hertzgear run that is at least as accurate.
 
 usage: scripts/bench_lsoda_dynamics.py HERTZGEAR_EXE [--periods N] [--rtols 1e-6,1e-8]
+                                      [--integrators cvode-bdf,radau-iia]
 """
 import argparse
 import json
@@ -63,8 +65,8 @@ def rhs(t, y):
     return [v, (F0 - force) / M_E, dd]
 
 
-def run_hertzgear(exe, rtol, atol, periods, out):
-    cmd = [exe, "dynamics", SCENE, "--out", out,
+def run_hertzgear(exe, rtol, atol, periods, out, integrator="cvode-bdf"):
+    cmd = [exe, "dynamics", SCENE, "--out", out, "--set", f"Dynamics/integrator={integrator}",
            "--set", f"Dynamics/relative_tolerance={rtol}", "--set", f"Dynamics/absolute_tolerance_m={atol}",
            "--set", f"Dynamics/periods={periods}", "--set", f"Dynamics/transient_periods={periods // 2}",
            "--set", "Output/timeseries_periods=0"]
@@ -79,6 +81,7 @@ def main():
     ap.add_argument("hertzgear")
     ap.add_argument("--periods", type=int, default=800)
     ap.add_argument("--rtols", default="1e-6,1e-8")
+    ap.add_argument("--integrators", default="cvode-bdf,radau-iia")
     args = ap.parse_args()
     T = 2 * math.pi / OMEGA
     P = args.periods
@@ -98,9 +101,12 @@ def main():
     rows = []
     for rtol in [float(r) for r in args.rtols.split(",")]:
         atol = 1e-13 * rtol / 1e-8
-        hg, hg_p = run_hertzgear(args.hertzgear, rtol, atol, P, os.path.join(tmp, f"hg{rtol}"))
-        rows.append(("hertzgear cvode-bdf", rtol, hg["integrator"]["wall_time_s"], hg["integrator"]["rhs_evals"],
-                     abs(hg["rms_dte_um"] * 1e-6 - ref_rms) / ref_rms, np.max(np.abs(hg_p - ref_p))))
+        for integrator in args.integrators.split(","):
+            hg, hg_p = run_hertzgear(args.hertzgear, rtol, atol, P, os.path.join(tmp, f"hg{integrator}{rtol}"),
+                                     integrator)
+            rows.append((f"hertzgear {integrator}", rtol, hg["integrator"]["wall_time_s"],
+                         hg["integrator"]["rhs_evals"], abs(hg["rms_dte_um"] * 1e-6 - ref_rms) / ref_rms,
+                         np.max(np.abs(hg_p - ref_p))))
 
         t_eval = np.union1d(t_steady, t_poincare)
         start = time.perf_counter()
@@ -129,7 +135,7 @@ def main():
         ok = [h for h in hg_rows if h[5] <= r[5] and h[4] <= max(r[4], 1e-12)]
         if ok:
             best = min(ok, key=lambda h: h[2])
-            print(f"LSODA rtol {r[1]:.0e}: {r[2] / best[2]:.1f}x slower than hertzgear rtol {best[1]:.0e} "
+            print(f"LSODA rtol {r[1]:.0e}: {r[2] / best[2]:.1f}x slower than {best[0]} rtol {best[1]:.0e} "
                   f"at equal or better accuracy")
         else:
             print(f"LSODA rtol {r[1]:.0e}: no hertzgear run in the table is as accurate")

@@ -4,6 +4,7 @@
 #include "dynamics/gear_pair_model.h"
 
 #include <cmath>
+#include <complex>
 
 namespace hertzgear::dynamics::testing
 {
@@ -39,6 +40,62 @@ namespace hertzgear::dynamics::testing
     p.effects.backlash                = false;
     p.effects.hertzian_layer          = HertzianLayer::off;
     p.effects.mesh_stiffness_variation = false;
+    return p;
+  }
+
+  // The unit oscillator driven by the STE harmonic e(t) = E cos(omega t), and the closed-form
+  // amplitude of its linear response |X| = E |k + i c omega| / |k - m omega^2 + i c omega|.
+  inline GearPairParameters unit_oscillator_with_ste(const double zeta, const double omega,
+                                                     const double E)
+  {
+    auto p                       = unit_oscillator(zeta, omega);
+    p.stiffness.unloaded_ste_m   = {0.0, {E}, {0.0}};
+    p.stiffness.has_unloaded_ste = true;
+    p.effects.ste_excitation     = true;
+    return p;
+  }
+  inline double unit_oscillator_response(const GearPairParameters &p, const double omega,
+                                         const double E)
+  {
+    const double               k = p.stiffness.k_rest_N_per_m.mean, m = p.equivalent_mass_kg;
+    const double               c = p.damping_N_s_per_m;
+    const std::complex<double> X =
+      E * std::complex<double>(k, c * omega) / std::complex<double>(k - m * omega * omega, c * omega);
+    return std::abs(X);
+  }
+
+  // The coefficient of restitution of the Hunt-Crossley law F = k_h delta^n (1 + chi delta'),
+  // chi = 3/2 alpha, for the impact speed v_i: Phi(v_i) = Phi(-e v_i) with
+  // Phi(v) = v/chi - ln(1 + chi v)/chi^2 (independent of m, k_h and n), solved by bisection
+  // (Phi is decreasing on (-1/chi, 0]).
+  inline double hunt_crossley_restitution(const double alpha, const double v_i)
+  {
+    const double chi = 1.5 * alpha;
+    auto         Phi = [chi](const double v) { return v / chi - std::log1p(chi * v) / (chi * chi); };
+    double       lo = 0.0, hi = 1.0;
+    for (int it = 0; it < 200; ++it)
+      {
+        const double e = 0.5 * (lo + hi);
+        (Phi(-e * v_i) < Phi(v_i) ? lo : hi) = e;
+      }
+    return 0.5 * (lo + hi);
+  }
+
+  // A single impact on the Hunt-Crossley layer alone (rigid structure, no load, long flights
+  // through a 2 x 10 mm backlash, short impacts).
+  inline GearPairParameters rigid_impact_pair(const double n, const double alpha)
+  {
+    GearPairParameters p;
+    p.equivalent_mass_kg               = 0.15;
+    p.static_force_N                   = 0.0;
+    p.half_backlash_m                  = 1e-2;
+    p.mesh_frequency_rad_per_s         = 100.0;
+    p.alpha_s_per_m                    = alpha;
+    p.stiffness.hertz_exponent         = n;
+    p.stiffness.k_rest_N_per_m.mean    = 1e8; // unused: rigid structure
+    p.stiffness.k_hertz_N_per_m_pow_n  = {n == 1.0 ? 5e8 : 3e10, {}, {}};
+    p.effects.mesh_stiffness_variation = false;
+    p.rigid_structure                  = true;
     return p;
   }
 

@@ -63,30 +63,42 @@ namespace
   }
 } // namespace
 
+// The hard cases below run with both stiff adaptive integrators: cvode-bdf (SUNDIALS, order <= 5)
+// and radau-iia (Radau IIA collocation, order 2s - 1).
+class HardCasesAdaptive : public ::testing::TestWithParam<IntegratorKind>
+{};
+
+INSTANTIATE_TEST_SUITE_P(Integrators, HardCasesAdaptive,
+                         ::testing::Values(IntegratorKind::cvode_bdf, IntegratorKind::radau_iia),
+                         [](const ::testing::TestParamInfo<IntegratorKind> &info) {
+                           return info.param == IntegratorKind::cvode_bdf ? std::string("cvode_bdf") :
+                                                                            std::string("radau_iia");
+                         });
+
 // The structural damping 1000 times below nominal: the delta equation's time constant c/k drops
 // to 5e-10 s against a mesh period of 1.7e-2 s.
-TEST(HardCases, StiffDamping)
+TEST_P(HardCasesAdaptive, StiffDamping)
 {
   auto p = paper_crowned();
   p.damping_N_s_per_m /= 1000.0;
-  expect_converged(p, IntegratorKind::cvode_bdf, 30, 20, 1000.0, 1e-5, {}, "stiff damping");
+  expect_converged(p, GetParam(), 30, 20, 1000.0, 1e-5, {}, "stiff damping");
 }
 
 // n = 1.5 with grazing contact: the pair starts at the edge of the backlash with zero speed and
 // a light load closes the contact with zero approach speed, where G'(0) = 0.
-TEST(HardCases, GrazingContactWithExponent15)
+TEST_P(HardCasesAdaptive, GrazingContactWithExponent15)
 {
   auto p           = paper_crowned();
   p.static_force_N = 20.0;
   GearPairModel model(p);
-  expect_converged(p, IntegratorKind::cvode_bdf, 30, 20, 1000.0, 1e-5,
+  expect_converged(p, GetParam(), 30, 20, 1000.0, 1e-5,
                    model.state(p.half_backlash_m, 0.0, 0.0), "grazing n = 1.5");
 }
 
 // Double-sided impacts near the primary resonance at low load: a 30 um transmission-error
 // excitation at the mesh natural frequency (about 3.3 kHz at F_0 = 50 N) drives the teeth
 // through the backlash onto the back flanks.
-TEST(HardCases, DoubleSidedImpactsNearResonance)
+TEST_P(HardCasesAdaptive, DoubleSidedImpactsNearResonance)
 {
   auto p                       = paper_crowned();
   p.static_force_N             = 50.0;
@@ -94,22 +106,22 @@ TEST(HardCases, DoubleSidedImpactsNearResonance)
   p.stiffness.unloaded_ste_m   = {0.0, {30e-6}, {0.0}};
   p.stiffness.has_unloaded_ste = true;
   p.effects.ste_excitation     = true;
-  const Outcome o              = run(p, IntegratorKind::cvode_bdf, 1e-8, 60, 40);
+  const Outcome o              = run(p, GetParam(), 1e-8, 60, 40);
   EXPECT_GT(o.backside_impacts, 0) << "the case must reach the back flanks";
-  expect_converged(p, IntegratorKind::cvode_bdf, 60, 40, 1000.0, 1e-2, {}, "double-sided");
+  expect_converged(p, GetParam(), 60, 40, 1000.0, 1e-2, {}, "double-sided");
 }
 
 // Zero backlash: f(x) = x, forward and back contact meet at x = 0.
-TEST(HardCases, ZeroBacklash)
+TEST_P(HardCasesAdaptive, ZeroBacklash)
 {
   auto p            = paper_crowned();
   p.half_backlash_m = 0.0;
-  expect_converged(p, IntegratorKind::cvode_bdf, 30, 20, 1000.0, 1e-5, {}, "zero backlash");
+  expect_converged(p, GetParam(), 30, 20, 1000.0, 1e-5, {}, "zero backlash");
 }
 
 // Zero static load (rattle): only a transmission-error excitation of 100 um (beyond the 58.6 um
 // half backlash) drives the teeth, which hit both flanks.
-TEST(HardCases, RattleWithoutLoad)
+TEST_P(HardCasesAdaptive, RattleWithoutLoad)
 {
   auto p                       = paper_crowned();
   p.static_force_N             = 0.0;
@@ -117,19 +129,19 @@ TEST(HardCases, RattleWithoutLoad)
   p.stiffness.unloaded_ste_m   = {0.0, {100e-6}, {0.0}};
   p.stiffness.has_unloaded_ste = true;
   p.effects.ste_excitation     = true;
-  EXPECT_GT(run(p, IntegratorKind::cvode_bdf, 1e-8, 60, 40).backside_impacts, 0);
-  expect_converged(p, IntegratorKind::cvode_bdf, 60, 40, 1000.0, 1e-2, {}, "rattle");
+  EXPECT_GT(run(p, GetParam(), 1e-8, 60, 40).backside_impacts, 0);
+  expect_converged(p, GetParam(), 60, 40, 1000.0, 1e-2, {}, "rattle");
 }
 
 // Hertzian stiffness variation near the principal parametric instability: mesh frequency twice
 // the natural frequency (about 4.5 kHz at full load) with the paper's harmonics, and viscous-only
 // contact damping so that the Hunt-Crossley term (an effective zeta of 0.2) does not suppress it.
-TEST(HardCases, NearParametricInstability)
+TEST_P(HardCasesAdaptive, NearParametricInstability)
 {
   auto p                     = paper_crowned();
   p.mesh_frequency_rad_per_s = 2 * 2 * M_PI * 4480.0;
   p.effects.contact_damping  = ContactDamping::viscous_only;
-  expect_converged(p, IntegratorKind::cvode_bdf, 60, 40, 1000.0, 1e-2, {}, "parametric");
+  expect_converged(p, GetParam(), 60, 40, 1000.0, 1e-2, {}, "parametric");
 }
 
 // c = 0: the delta equation is algebraic where mu H(delta) vanishes (a DAE); IDA integrates it.

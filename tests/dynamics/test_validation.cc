@@ -35,17 +35,13 @@ TEST(Validation, LinearResponseMatchesClosedForm)
   for (const double ratio : {0.5, 0.9, 1.3})
     {
       const double omega = 1000.0 * ratio, zeta = 0.05, E = 1.0e-5;
-      auto         p = unit_oscillator(zeta, omega);
-      p.stiffness.unloaded_ste_m   = {0.0, {E}, {0.0}};
-      p.stiffness.has_unloaded_ste = true;
-      p.effects.ste_excitation     = true;
+      const auto   p     = unit_oscillator_with_ste(zeta, omega, E);
       GearPairModel model(p);
       const auto    r = simulate(model, run_settings(IntegratorKind::cvode_bdf, 1e-11, 1e-17, 70, 50),
                               model.static_equilibrium_state());
-      const double               k = 1.0e6, m = 1.0, c = p.damping_N_s_per_m;
-      const std::complex<double> X =
-        E * std::complex<double>(k, c * omega) / std::complex<double>(k - m * omega * omega, c * omega);
-      EXPECT_NEAR(first_harmonic_amplitude(r), std::abs(X), 1e-6 * std::abs(X)) << "omega/omega_n " << ratio;
+      const double k = p.stiffness.k_rest_N_per_m.mean;
+      const double X = unit_oscillator_response(p, omega, E);
+      EXPECT_NEAR(first_harmonic_amplitude(r), X, 1e-6 * X) << "omega/omega_n " << ratio;
       EXPECT_NEAR(analyse(model, r).mean_dte_m, p.static_force_N / k, 1e-6 * p.static_force_N / k);
     }
 }
@@ -117,28 +113,9 @@ TEST(Validation, HuntCrossleyRestitution)
   for (const double n : {1.0, 1.5})
     for (const double v_i : {0.05, 0.5, 1.5})
       {
-        const double alpha = 0.26, chi = 1.5 * alpha;
-        auto         Phi   = [chi](const double v) { return v / chi - std::log1p(chi * v) / (chi * chi); };
-        // Phi is decreasing on (-1/chi, 0]: bisection for e.
-        double lo = 0.0, hi = 1.0;
-        for (int it = 0; it < 200; ++it)
-          {
-            const double e = 0.5 * (lo + hi);
-            (Phi(-e * v_i) < Phi(v_i) ? lo : hi) = e;
-          }
-        const double e_law = 0.5 * (lo + hi);
-
-        GearPairParameters p;
-        p.equivalent_mass_kg               = 0.15;
-        p.static_force_N                   = 0.0;
-        p.half_backlash_m                  = 1e-2; // long flights, short impacts
-        p.mesh_frequency_rad_per_s         = 100.0;
-        p.alpha_s_per_m                    = alpha;
-        p.stiffness.hertz_exponent         = n;
-        p.stiffness.k_rest_N_per_m.mean    = 1e8; // unused: rigid structure
-        p.stiffness.k_hertz_N_per_m_pow_n  = {n == 1.0 ? 5e8 : 3e10, {}, {}};
-        p.effects.mesh_stiffness_variation = false;
-        p.rigid_structure                  = true;
+        const double alpha = 0.26;
+        const double e_law = hunt_crossley_restitution(alpha, v_i);
+        const auto   p     = rigid_impact_pair(n, alpha);
         GearPairModel model(p);
         auto          integrator = make_integrator({IntegratorKind::cvode_bdf, 1e-11, 1e-18});
         std::vector<double> y    = model.state(0.0, v_i, 0.0);

@@ -1,0 +1,783 @@
+// Radau IIA collocation of high order (s = 3, 5, 7 or 9 stages, order 2s - 1) with step-size
+// control, for the small stiff systems of the dynamics stage. The method and its implementation
+// follow Hairer & Wanner, Solving Ordinary Differential Equations II, 2nd ed., Sec. IV.5 and IV.8
+// (the codes RADAU5 and RADAU); the tableau is computed here for any odd s.
+//
+// Why hertzgear has it (docs/accuracy-dynamics.md): the steady response of a gear pair at low speed
+// is a smooth, quasi-static periodic function, while the structural mesh mode (a few kHz, damping
+// ratio ~0.015) and the Hertzian layer (~1e5 1/s) make the system stiff and oscillatory. BDF of
+// orders 3-5 is unstable near the imaginary axis and falls back to orders 1-2; the explicit and
+// order-5 implicit methods need 300-2000 steps per mesh period at rtol 1e-8. Radau IIA is
+// L-stable at every order (it damps the unexcited stiff modes instead of resolving them) and its
+// order 2s - 1 makes steps of a few hundredths of a mesh period accurate to 1e-8.
+//
+// One step of size h from (t0, y0): stage increments Z_i = Y_i - y0 solve
+//   Z_i = h sum_j a_ij f(t0 + c_j h, y0 + Z_j),  y1 = y0 + Z_s  (c_s = 1, stiffly accurate),
+// by simplified Newton iterations with J = df/dy at (t0, y0). With A^-1 = V Lambda V^-1 the Newton
+// matrix I - h A (x) J decouples into s complex n x n systems (lambda_k / h - J) dW_k = R_k.
+// Error estimate: the embedded formula y^ = y0 + h (g0 f(t0, y0) + sum_i b^_i f(Y_i)) of order s
+// with g0 = 1 / lambda_real (the real eigenvalue of A^-1), filtered for stiff components:
+//   err = (I - h g0 J)^-1 (g0 h f(t0, y0) + sum_i e_i Z_i),  e = A^-T (b^ - b).
+// Because the estimate has order s and the solution order 2s - 1, the user's tolerance is
+// transformed as in RADAU5: rtol' = 0.1 rtol^((s+1)/(2s)), atol' = atol rtol' / rtol, so that
+// the solution's error, not the estimate's, is of the size the user asks for. The Newton
+// iterations stop on the untransformed tolerance.
+//
+// Output and events: a step never straddles an output time. After every accepted step the root
+// functions are compared with their values at the step's start; a sign change is located on the
+// collocation polynomial (the dense output through y0 and the stages) by the Illinois method, the
+// step is redone up to just past the root, and the system handles the event there.
+#include "common/errors.h"
+#include "dynamics/integrator.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <limits>
+
+namespace hertzgear::dynamics
+{
+  namespace
+  {
+    constexpr int n_max = 8; // largest state dimension handled (the gear pair has 2 or 3)
+    constexpr int s_max = 9; // largest number of stages
+
+    using cplx  = std::complex<double>;
+    using Vec   = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, n_max, 1>;
+    using Mat   = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, n_max>;
+    using CVec  = Eigen::Matrix<cplx, Eigen::Dynamic, 1, 0, n_max, 1>;
+    using CMat  = Eigen::Matrix<cplx, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, n_max>;
+    using SVec  = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, s_max, 1>;
+    using SMat  = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, s_max, s_max>;
+    using SCMat = Eigen::Matrix<cplx, Eigen::Dynamic, Eigen::Dynamic, 0, s_max, s_max>;
+    // n x s: column i is stage i.
+    using Stages  = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, s_max>;
+    using CStages = Eigen::Matrix<cplx, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, s_max>;
+
+    // The Radau IIA tableau with s stages and what the implementation derives from it.
+    struct Tableau
+    {
+      int   s = 0;
+      SVec  c, b, e;       // nodes, weights, error weights e = A^-T (b^ - b)
+      SMat  A, A_inv;
+      SCMat V, V_inv;      // A^-1 = V diag(lambda) V^-1
+      Eigen::Matrix<cplx, Eigen::Dynamic, 1, 0, s_max, 1> lambda;
+      int    real_index = 0; // the real eigenvalue of A^-1 (s odd)
+      double g0         = 0.0; // 1 / lambda_real
+      // One eigenvalue of each conjugate pair (and the real one) with its weight in
+      // dZ_i = sum_k V_ik W_k: 2 Re(V_ik W_k) for a pair, Re(V_ik W_k) for the real one.
+      std::vector<int>    reps;
+      std::vector<double> rep_weight;
+    };
+
+    // LU with partial pivoting of the complex n x n matrix shift I - J (n <= n_max), written out:
+    // the gear pair has n = 2 or 3, where Eigen's dynamic-size complex LU costs more than the
+    // arithmetic.
+    struct SmallComplexLU
+    {
+      int  n = 0;
+      cplx a[n_max][n_max];
+      cplx inv_pivot[n_max];
+      int  perm[n_max];
+
+      void factor(const Mat &J, const cplx shift)
+      {
+        n = int(J.rows());
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j)
+            a[i][j] = (i == j ? shift : cplx(0.0)) - J(i, j);
+        for (int i = 0; i < n; ++i)
+          perm[i] = i;
+        for (int k = 0; k < n; ++k)
+          {
+            int    p    = k;
+            double best = std::norm(a[k][k]);
+            for (int i = k + 1; i < n; ++i)
+              if (std::norm(a[i][k]) > best)
+                {
+                  best = std::norm(a[i][k]);
+                  p    = i;
+                }
+            if (p != k)
+              {
+                for (int j = 0; j < n; ++j)
+                  std::swap(a[k][j], a[p][j]);
+                std::swap(perm[k], perm[p]);
+              }
+            const cplx piv = a[k][k];
+            const double nn = std::norm(piv);
+            inv_pivot[k]    = nn > 0.0 ? std::conj(piv) / nn : cplx(0.0);
+            for (int i = k + 1; i < n; ++i)
+              {
+                const cplx l = a[i][k] * inv_pivot[k];
+                a[i][k]      = l;
+                for (int j = k + 1; j < n; ++j)
+                  a[i][j] -= l * a[k][j];
+              }
+          }
+      }
+
+      // x = (shift I - J)^-1 b, in place.
+      void solve(cplx *b) const
+      {
+        cplx x[n_max];
+        for (int i = 0; i < n; ++i)
+          x[i] = b[perm[i]];
+        for (int i = 1; i < n; ++i)
+          for (int j = 0; j < i; ++j)
+            x[i] -= a[i][j] * x[j];
+        for (int i = n - 1; i >= 0; --i)
+          {
+            for (int j = i + 1; j < n; ++j)
+              x[i] -= a[i][j] * x[j];
+            x[i] *= inv_pivot[i];
+          }
+        for (int i = 0; i < n; ++i)
+          b[i] = x[i];
+      }
+    };
+
+    // Radau IIA nodes: the roots of P_s(2c - 1) - P_{s-1}(2c - 1) on (0, 1], c_s = 1
+    // (Hairer & Wanner II, Sec. IV.5, Table 5.5 for s <= 3). The s - 1 interior roots are
+    // bracketed on a fine grid and bisected to machine precision.
+    Tableau make_tableau(const int s)
+    {
+      HG_REQUIRE_INPUT(s >= 3 && s <= s_max && s % 2 == 1,
+                       "radau-iia needs an odd number of stages between 3 and ", s_max, ", got ", s);
+      const auto radau_poly = [s](const double c) {
+        return std::legendre(unsigned(s), 2.0 * c - 1.0) - std::legendre(unsigned(s - 1), 2.0 * c - 1.0);
+      };
+      std::vector<double> nodes;
+      const int           grid = 4000;
+      for (int g = 0; g < grid - 1; ++g)
+        {
+          double a = double(g) / grid, b = double(g + 1) / grid;
+          double fa = radau_poly(a), fb = radau_poly(b);
+          if (fa == 0.0)
+            {
+              nodes.push_back(a);
+              continue;
+            }
+          if (fa * fb > 0.0)
+            continue;
+          for (int it = 0; it < 200 && b - a > 4.0 * std::numeric_limits<double>::epsilon(); ++it)
+            {
+              const double m  = 0.5 * (a + b);
+              const double fm = radau_poly(m);
+              if (fa * fm <= 0.0)
+                b = m;
+              else
+                {
+                  a  = m;
+                  fa = fm;
+                }
+            }
+          nodes.push_back(0.5 * (a + b));
+        }
+      HG_REQUIRE_INPUT(int(nodes.size()) == s - 1, "radau-iia: found ", nodes.size(),
+                       " interior Radau nodes for s = ", s, " (expected ", s - 1, ")");
+      nodes.push_back(1.0);
+
+      Tableau T;
+      T.s = s;
+      T.c.resize(s);
+      for (int i = 0; i < s; ++i)
+        T.c[i] = nodes[i];
+      // a_ij = int_0^{c_i} l_j, with the Lagrange basis l_j(x) = sum_k L_kj x^k, L = Vandermonde^-1.
+      using LMat = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+      LMat Vd(s, s);
+      for (int i = 0; i < s; ++i)
+        for (int k = 0; k < s; ++k)
+          Vd(i, k) = std::pow((long double)T.c[i], k);
+      const LMat L = Vd.fullPivLu().inverse();
+      T.A.resize(s, s);
+      for (int i = 0; i < s; ++i)
+        for (int j = 0; j < s; ++j)
+          {
+            long double a = 0.0L;
+            for (int k = 0; k < s; ++k)
+              a += L(k, j) * std::pow((long double)T.c[i], k + 1) / (k + 1);
+            T.A(i, j) = double(a);
+          }
+      T.b     = T.A.row(s - 1).transpose();
+      T.A_inv = T.A.inverse();
+
+      // Eigenvectors in conjugate pairs (columns k and k + 1 conjugate), so that the Newton
+      // solves need only one eigenvalue of each pair.
+      Eigen::EigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(T.A_inv));
+      T.lambda.resize(s);
+      T.V.resize(s, s);
+      T.real_index = -1;
+      {
+        int col = 0;
+        for (int k = 0; k < s; ++k)
+          {
+            const cplx l = eig.eigenvalues()[k];
+            if (std::abs(l.imag()) < 1e-9 * std::abs(l))
+              {
+                T.real_index = col;
+                T.lambda[col] = l.real();
+                T.V.col(col)  = eig.eigenvectors().col(k).real().cast<cplx>();
+                T.reps.push_back(col);
+                T.rep_weight.push_back(1.0);
+                ++col;
+              }
+            else if (l.imag() > 0.0)
+              {
+                T.lambda[col]     = l;
+                T.lambda[col + 1] = std::conj(l);
+                T.V.col(col)      = eig.eigenvectors().col(k);
+                T.V.col(col + 1)  = eig.eigenvectors().col(k).conjugate();
+                T.reps.push_back(col);
+                T.rep_weight.push_back(2.0);
+                col += 2;
+              }
+          }
+        HG_REQUIRE_INPUT(col == s && T.real_index >= 0,
+                         "radau-iia: unexpected eigenvalues of A^-1 for s = ", s);
+      }
+      T.V_inv = T.V.inverse();
+      T.g0 = 1.0 / T.lambda[T.real_index].real();
+
+      // Embedded weights b^ of order s: g0 [q == 1] + sum_i b^_i c_i^(q-1) = 1/q, q = 1..s.
+      LMat        Q(s, s);
+      Eigen::Matrix<long double, Eigen::Dynamic, 1> rhs(s);
+      for (int q = 1; q <= s; ++q)
+        {
+          for (int i = 0; i < s; ++i)
+            Q(q - 1, i) = std::pow((long double)T.c[i], q - 1);
+          rhs[q - 1] = 1.0L / q - (q == 1 ? (long double)T.g0 : 0.0L);
+        }
+      const Eigen::Matrix<long double, Eigen::Dynamic, 1> b_hat = Q.fullPivLu().solve(rhs);
+      SVec d(s);
+      for (int i = 0; i < s; ++i)
+        d[i] = double(b_hat[i]) - T.b[i];
+      T.e = T.A_inv.transpose() * d;
+      return T;
+    }
+
+    class RadauIIA : public Integrator
+    {
+    public:
+      explicit RadauIIA(const IntegratorSettings &st)
+        : settings(st)
+        , tab(make_tableau(st.stages > 0 ? st.stages : default_stages(st.relative_tolerance)))
+      {
+        statistics.name = "radau-iia";
+        const int s     = tab.s;
+        rtol_est  = 0.1 * std::pow(settings.relative_tolerance, (s + 1.0) / (2.0 * s));
+        atol_fac  = rtol_est / settings.relative_tolerance;
+      }
+
+      // Stages by tolerance: the cheapest order that takes steps of a few hundredths of a mesh
+      // period (measured in docs/accuracy-dynamics.md).
+      static int default_stages(const double rtol)
+      {
+        if (rtol >= 1e-5)
+          return 3;
+        if (rtol >= 1e-10)
+          return 5;
+        return 7;
+      }
+
+      void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
+                     const double output_interval, const long n_outputs,
+                     const Observer &observer) override
+      {
+        const auto start = std::chrono::steady_clock::now();
+        n                = int(system.n_states());
+        HG_REQUIRE_INPUT(n >= 1 && n <= n_max, "the radau-iia integrator handles up to ", n_max,
+                         " states, the system has ", n);
+        sys = &system;
+        {
+          const auto a = system.absolute_tolerances(settings.absolute_tolerance);
+          atol.resize(n);
+          for (int i = 0; i < n; ++i)
+            atol[i] = a[i];
+        }
+        n_roots = system.n_roots();
+        g_start.assign(n_roots, 0.0);
+        g_new.assign(n_roots, 0.0);
+        g_mid.assign(n_roots, 0.0);
+        sign_old.assign(n_roots, 0);
+        directions.assign(n_roots, 0);
+        have_predictor = false;
+
+        Vec    y = Eigen::Map<const Vec>(y0.data(), n);
+        double t = t0;
+        if (H <= 0.0) // first call: a conservative first step, the control takes over
+          H = std::min(output_interval, settings.max_step > 0 ? settings.max_step : output_interval) * 1e-2;
+        if (n_roots)
+          {
+            system.roots(t, y.data(), g_start.data());
+            update_signs(g_start);
+          }
+
+        if (observer)
+          observer(t, y.data());
+        const std::string remedy =
+          "check that the scene is physical (positive stiffness and damping), or relax "
+          "Dynamics/relative_tolerance, or use Dynamics/integrator = cvode-bdf";
+        for (long out = 1; out <= n_outputs; ++out)
+          {
+            const double tout  = t0 + out * output_interval;
+            long         steps = 0;
+            while (t < tout)
+              {
+                if (++steps > settings.max_steps_per_output)
+                  throw NumericalError(msg("radau-iia took more than ", settings.max_steps_per_output,
+                                           " steps before t = ", tout, " s, at t = ", t, " s (step ", H,
+                                           " s): ", system.describe_state(y.data()), ". Remedy: ",
+                                           remedy));
+                double h_max = tout - t;
+                if (settings.max_step > 0.0)
+                  h_max = std::min(h_max, settings.max_step);
+                // Hit the output time exactly when the step would end just short of it.
+                const double h_try  = H >= h_max * (1.0 - 1e-10) ? h_max : std::min(H, h_max);
+                const bool   to_end = h_try == tout - t;
+                const double h_done = step(t, y, h_try, remedy);
+                t                   = (to_end && h_done == h_try) ? tout : t + h_done;
+                y                   = y_next;
+                check_state(system, t, y.data(), "radau-iia", remedy);
+              }
+            if (observer)
+              observer(tout, y.data());
+          }
+        for (int i = 0; i < n; ++i)
+          y0[i] = y[i];
+        statistics.wall_time_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      }
+
+    private:
+      // Weighted RMS norm of e with the scale atol f + rtol max(|a|, |b|).
+      double error_norm(const Vec &e, const Vec &a, const Vec &b, const double rtol,
+                        const double f) const
+      {
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i)
+          {
+            const double sc = f * atol[i] + rtol * std::max(std::abs(a[i]), std::abs(b[i]));
+            sum += (e[i] / sc) * (e[i] / sc);
+          }
+        return std::sqrt(sum / n);
+      }
+
+      // Same over all stages of Z (scale from y0 + Z_i and y0).
+      double stage_norm(const Stages &Z, const Vec &y, const Stages &dZ) const
+      {
+        double sum = 0.0;
+        for (int i = 0; i < tab.s; ++i)
+          for (int r = 0; r < n; ++r)
+            {
+              const double sc = atol[r] + settings.relative_tolerance *
+                                            std::max(std::abs(y[r]), std::abs(y[r] + Z(r, i)));
+              sum += (dZ(r, i) / sc) * (dZ(r, i) / sc);
+            }
+        return std::sqrt(sum / (n * tab.s));
+      }
+
+      // f0 = f(t, y) and J = df/dy at (tj, yj): the middle of the coming step on the predicted
+      // solution when there is a prediction (the stiff eigenvalue follows k_h(t), and a Jacobian
+      // from the step's middle halves what the simplified Newton iteration has to make up).
+      void linearise(const double t, const Vec &y, const double tj, const Vec &yj)
+      {
+        f0.resize(n);
+        sys->rhs(t, y.data(), f0.data());
+        ++statistics.rhs_evals;
+        J.resize(n, n);
+        if (sys->has_jacobian())
+          {
+            double jac[n_max * n_max];
+            sys->jacobian(tj, yj.data(), jac);
+            for (int i = 0; i < n; ++i)
+              for (int j = 0; j < n; ++j)
+                J(i, j) = jac[i * n + j];
+          }
+        else
+          {
+            Vec yp = yj, fp(n), fj(n);
+            sys->rhs(tj, yj.data(), fj.data());
+            for (int j = 0; j < n; ++j)
+              {
+                const double dy = std::sqrt(std::numeric_limits<double>::epsilon()) *
+                                  std::max(std::abs(yj[j]), atol[j] / settings.relative_tolerance);
+                yp[j] = yj[j] + dy;
+                sys->rhs(tj, yp.data(), fp.data());
+                J.col(j) = (fp - fj) / dy;
+                yp[j]    = yj[j];
+              }
+            statistics.rhs_evals += n + 1;
+          }
+        ++statistics.jacobian_evals;
+        lu_valid = false;
+      }
+
+      // The collocation polynomial of the last solve at tau = (t - t0) / h: Lagrange form through
+      // (0, y0) and (c_i, y0 + Z_i).
+      Vec dense(const Vec &y, const Stages &Zs, const double tau) const
+      {
+        Vec u = y;
+        // l_0 (the node 0) multiplies y0, which is the constant part; Z carries the rest:
+        // u(tau) = y0 + sum_i Z_i l_i(tau) since sum of all l = 1.
+        for (int i = 0; i < tab.s; ++i)
+          {
+            double l = tau / tab.c[i]; // the factor of node 0
+            for (int j = 0; j < tab.s; ++j)
+              if (j != i)
+                l *= (tau - tab.c[j]) / (tab.c[i] - tab.c[j]);
+            u += l * Zs.col(i);
+          }
+        return u;
+      }
+
+      // Solves the collocation equations for a step of size h from (t, y), with J and f0 from
+      // linearise(t, y). On success Z holds the stage increments and y_next = y + Z_s.
+      bool solve(const double t, const Vec &y, const double h)
+      {
+        const int s = tab.s;
+        // LU of lambda_k / h - J for one eigenvalue of each conjugate pair of A^-1; kept while
+        // neither J nor h changed.
+        if (!lu_valid || h != h_lu)
+          {
+            for (const int k : tab.reps)
+              lu[k].factor(J, tab.lambda[k] / h);
+            lu_valid = true;
+            h_lu     = h;
+          }
+        Z.resize(n, s);
+        if (have_predictor)
+          {
+            // Extrapolate the previous collocation polynomial (Hairer & Wanner's starting values).
+            for (int i = 0; i < s; ++i)
+              Z.col(i) = dense(y_prev, Z_prev, 1.0 + tab.c[i] * h / h_prev) - y;
+          }
+        else
+          Z.setZero();
+        Stages F(n, s), dZ(n, s);
+        Vec    Y(n);
+        double R[n_max][s_max];
+        cplx   W[s_max][n_max];
+        double dn_old = 0.0;
+        const double kappa = 0.05;
+        for (int it = 0; it < max_newton; ++it)
+          {
+            for (int i = 0; i < s; ++i)
+              {
+                Y = y + Z.col(i);
+                sys->rhs(t + tab.c[i] * h, Y.data(), F.col(i).data());
+              }
+            statistics.rhs_evals += s;
+            // R_i = f_i - sum_j Ainv_ij Z_j / h.
+            for (int i = 0; i < s; ++i)
+              for (int r = 0; r < n; ++r)
+                {
+                  double acc = 0.0;
+                  for (int j = 0; j < s; ++j)
+                    acc += tab.A_inv(i, j) * Z(r, j);
+                  R[r][i] = F(r, i) - acc / h;
+                }
+            // W_k = sum_i Vinv_ki R_i, (lambda_k / h - J) W_k = ..., dZ_i = sum_k V_ik W_k.
+            dZ.setZero();
+            for (std::size_t q = 0; q < tab.reps.size(); ++q)
+              {
+                const int k = tab.reps[q];
+                for (int r = 0; r < n; ++r)
+                  {
+                    cplx acc = 0.0;
+                    for (int i = 0; i < s; ++i)
+                      acc += tab.V_inv(k, i) * R[r][i];
+                    W[k][r] = acc;
+                  }
+                lu[k].solve(W[k]);
+                const double wgt = tab.rep_weight[q];
+                for (int i = 0; i < s; ++i)
+                  {
+                    const cplx v = tab.V(i, k);
+                    for (int r = 0; r < n; ++r)
+                      dZ(r, i) += wgt * (v.real() * W[k][r].real() - v.imag() * W[k][r].imag());
+                  }
+              }
+            Z += dZ;
+            if (!Z.allFinite())
+              return false;
+            const double dn = stage_norm(Z, y, dZ);
+            if (it == 0)
+              {
+                // The contraction of the last step stands in for the first iteration's.
+                if (std::pow(std::max(eta_newton, 1e-16), 0.8) * dn <= kappa)
+                  return true;
+              }
+            else
+              {
+                const double theta = dn / std::max(dn_old, 1e-300);
+                if (theta >= 0.99)
+                  return false;
+                eta_newton = theta / (1.0 - theta);
+                if (eta_newton * dn <= kappa)
+                  return true;
+                // Not converging within the remaining iterations at this rate.
+                if (eta_newton * dn * std::pow(theta, max_newton - 1 - it) > kappa * 1e3)
+                  return false;
+              }
+            if (dn == 0.0)
+              return true;
+            dn_old = dn;
+          }
+        return false;
+      }
+
+      // err = scale (lambda_real / h - J)^-1 raw.
+      void filter(const Vec &raw, const double scale, Vec &err) const
+      {
+        cplx w[n_max];
+        for (int r = 0; r < n; ++r)
+          w[r] = raw[r];
+        lu[tab.real_index].solve(w);
+        for (int r = 0; r < n; ++r)
+          err[r] = scale * w[r].real();
+      }
+
+      // Filtered error estimate of the step just solved, in the transformed norm.
+      double estimate(const double t, const Vec &y, const double h, const bool refine)
+      {
+        const int s   = tab.s;
+        Vec       raw = (tab.g0 * h) * f0 + Z * tab.e;
+        const int kr  = tab.real_index;
+        const double scale = tab.lambda[kr].real() / h; // (I - h g0 J)^-1 = scale (scale - J)^-1
+        Vec err(n);
+        filter(raw, scale, err);
+        const Vec y1 = y + Z.col(s - 1);
+        double    en = error_norm(err, y, y1, rtol_est, atol_fac);
+        if (en > 1.0 && refine)
+          {
+            // Hairer & Wanner IV.8 (8.21): one more filter with f at y0 + err.
+            Vec yp = y + err, fp(n);
+            sys->rhs(t, yp.data(), fp.data());
+            ++statistics.rhs_evals;
+            raw = (tab.g0 * h) * fp + Z * tab.e;
+            filter(raw, scale, err);
+            en  = error_norm(err, y, y1, rtol_est, atol_fac);
+          }
+        return en;
+      }
+
+      // Takes one accepted step from (t, y) of at most h_try; the result is in y_next and the
+      // step actually taken is returned (shorter than h_try when an event was located).
+      double step(const double t, const Vec &y, double h_try, const std::string &remedy)
+      {
+        if (have_predictor && settings.stages >= 0)
+          linearise(t, y, t + 0.5 * h_try, dense(y_prev, Z_prev, 1.0 + 0.5 * h_try / h_prev));
+        else
+          linearise(t, y, t, y);
+        const double H_in       = H;
+        int          rejections = 0;
+        bool         was_rejected = false;
+        const int    s          = tab.s;
+        for (;;)
+          {
+            if (solve(t, y, h_try))
+              {
+                const double en = estimate(t, y, h_try, was_rejected || first_step);
+                const double fac =
+                  std::clamp(0.9 * std::pow(std::max(en, 1e-10), -1.0 / (s + 1.0)), 0.2, 6.0);
+                if (en <= 1.0)
+                  {
+                    first_step = false;
+                    ++statistics.steps;
+                    y_next = y + Z.col(s - 1);
+                    double taken = h_try;
+                    if (n_roots)
+                      taken = locate_event(t, y, h_try);
+                    double h_new = h_try * fac;
+                    if (was_rejected)
+                      h_new = std::min(h_new, h_try);
+                    // A step shortened by the output grid or by an event keeps the proposal it had.
+                    if (taken == h_try)
+                      H = (h_try < H_in && !was_rejected) ? std::max(H_in, h_new) : h_new;
+                    if (taken == h_try && !event_now)
+                      {
+                        // Starting values for the next step.
+                        have_predictor = true;
+                        y_prev         = y;
+                        Z_prev         = Z;
+                        h_prev         = h_try;
+                      }
+                    else
+                      have_predictor = false;
+                    return taken;
+                  }
+                h_try *= std::min(fac, 0.9);
+              }
+            else
+              {
+                h_try *= 0.5;
+              }
+            ++statistics.rejected_steps;
+            was_rejected = true;
+            H            = h_try;
+            if (++rejections > 50)
+              throw NumericalError(msg("radau-iia: 50 rejected steps in a row at t = ", t,
+                                       " s (step ", h_try, " s): ", sys->describe_state(y.data()),
+                                       ". Remedy: ", remedy));
+          }
+      }
+
+      // Sign of the root functions before the step: the last nonzero sign each had (0 while a
+      // function has been exactly zero from the start). A function that stays at zero is
+      // therefore no event, as in CVODE.
+      void update_signs(const std::vector<double> &g)
+      {
+        for (unsigned r = 0; r < n_roots; ++r)
+          if (g[r] != 0.0)
+            sign_old[r] = g[r] > 0.0 ? 1 : -1;
+      }
+
+      // Whether g_r has left its sign (reaching zero counts).
+      bool changed(const std::vector<double> &g, const unsigned r) const
+      {
+        return sign_old[r] != 0 && g[r] * sign_old[r] <= 0.0;
+      }
+
+      // After an accepted step of size h (result in y_next, stages in Z), find the first root
+      // function that changed its sign. If one did, the step is redone up to just past the
+      // root, the system handles the event there, and the step to the root is returned.
+      double locate_event(const double t, const Vec &y, const double h)
+      {
+        event_now = false;
+        sys->roots(t + h, y_next.data(), g_new.data());
+        ++statistics.root_evals;
+        bool any = false;
+        for (unsigned r = 0; r < n_roots; ++r)
+          any = any || (sign_old[r] != 0 && g_new[r] * sign_old[r] < 0.0);
+        if (!any)
+          {
+            update_signs(g_new);
+            g_start = g_new;
+            return h;
+          }
+        // Illinois on the dense output over [a, b] = [0, 1] (fractions of the step), bracketing
+        // the earliest change; bisection when a bracket value is zero.
+        const Stages        Zs   = Z;
+        std::vector<double> g_lo = g_start, g_hi = g_new;
+        double              a = 0.0, b = 1.0;
+        const double        s_tol = 100.0 * std::numeric_limits<double>::epsilon() * (std::abs(t) + h) / h;
+        int                 last_moved = 0; // +1: b moved last, -1: a moved last
+        double              w_lo = 1.0, w_hi = 1.0;
+        while (b - a > s_tol)
+          {
+            double sp = b;
+            for (unsigned r = 0; r < n_roots; ++r)
+              if (changed(g_hi, r))
+                {
+                  if (g_lo[r] == 0.0 || g_hi[r] == 0.0 || g_lo[r] * g_hi[r] > 0.0)
+                    sp = std::min(sp, 0.5 * (a + b));
+                  else
+                    sp = std::min(sp, a + (b - a) * (w_lo * g_lo[r]) / (w_lo * g_lo[r] - w_hi * g_hi[r]));
+                }
+            sp = std::clamp(sp, a + 0.5 * s_tol, b - 0.5 * s_tol);
+            const Vec u = dense(y, Zs, sp);
+            sys->roots(t + sp * h, u.data(), g_mid.data());
+            ++statistics.root_evals;
+            bool left = false;
+            for (unsigned r = 0; r < n_roots; ++r)
+              left = left || changed(g_mid, r);
+            if (left)
+              {
+                b          = sp;
+                g_hi       = g_mid;
+                w_lo       = last_moved == 1 ? 0.5 * w_lo : 1.0;
+                w_hi       = 1.0;
+                last_moved = 1;
+              }
+            else
+              {
+                a          = sp;
+                g_lo       = g_mid;
+                w_hi       = last_moved == -1 ? 0.5 * w_hi : 1.0;
+                w_lo       = 1.0;
+                last_moved = -1;
+              }
+          }
+        // Redo the step up to the root: the collocation polynomial of the whole step is not
+        // accurate across the kink of the vector field there.
+        double h_root = b * h;
+        if (b < 1.0)
+          {
+            if (solve(t, y, h_root))
+              {
+                y_next = y + Z.col(tab.s - 1);
+                sys->roots(t + h_root, y_next.data(), g_hi.data());
+                ++statistics.root_evals;
+                bool confirmed = false;
+                for (unsigned r = 0; r < n_roots; ++r)
+                  confirmed = confirmed || changed(g_hi, r);
+                if (!confirmed && !unconfirmed_last)
+                  {
+                    // The accurate step ends just short of the root: accept it without an event;
+                    // the next step, from much closer, locates it again.
+                    unconfirmed_last = true;
+                    update_signs(g_hi);
+                    g_start = g_hi;
+                    return h_root;
+                  }
+              }
+            else
+              {
+                // No convergence on the shorter step (rare): the dense output there.
+                y_next = dense(y, Zs, b);
+                sys->roots(t + h_root, y_next.data(), g_hi.data());
+                ++statistics.root_evals;
+              }
+          }
+        unconfirmed_last = false;
+        event_now        = true;
+        for (unsigned r = 0; r < n_roots; ++r)
+          directions[r] = changed(g_hi, r) ? -sign_old[r] : 0;
+        ++statistics.events;
+        sys->handle_event(t + h_root, y_next.data(), directions.data());
+        sys->roots(t + h_root, y_next.data(), g_new.data());
+        ++statistics.root_evals;
+        // Past the root: the new sign. A function that sits exactly at zero there has no sign
+        // until it leaves zero, so that it cannot trigger the same event again.
+        for (unsigned r = 0; r < n_roots; ++r)
+          if (directions[r] != 0)
+            sign_old[r] = 0;
+        update_signs(g_new);
+        g_start = g_new;
+        return h_root;
+      }
+
+      static constexpr int max_newton = 10;
+
+      IntegratorSettings settings;
+      Tableau            tab;
+      double             rtol_est = 0.0, atol_fac = 1.0; // transformed tolerance of the estimate
+      OdeSystem         *sys     = nullptr;
+      int                n       = 0;
+      unsigned           n_roots = 0;
+      Vec                atol, f0, y_next, y_prev;
+      Mat                J;
+      Stages             Z, Z_prev;
+      std::array<SmallComplexLU, s_max> lu;
+      bool               lu_valid = false;
+      double             h_lu = 0.0, eta_newton = 1.0;
+      bool               have_predictor = false, first_step = true, event_now = false,
+                         unconfirmed_last = false;
+      double             h_prev = 0.0;
+      std::vector<double> g_start, g_new, g_mid; // root functions at the step's start, end, inside
+      std::vector<int>    sign_old;
+      std::vector<int>    directions;
+      double              H = 0.0; // proposed next step
+    };
+  } // namespace
+
+  std::unique_ptr<Integrator> make_radau_iia(const IntegratorSettings &settings)
+  {
+    return std::make_unique<RadauIIA>(settings);
+  }
+} // namespace hertzgear::dynamics
