@@ -13,7 +13,8 @@
 //
 // One step of size h from (t0, y0): stage increments Z_i = Y_i - y0 solve
 //   Z_i = h sum_j a_ij f(t0 + c_j h, y0 + Z_j),  y1 = y0 + Z_s  (c_s = 1, stiffly accurate),
-// by simplified Newton iterations with J = df/dy at (t0, y0). With A^-1 = V Lambda V^-1 the Newton
+// by simplified Newton iterations with J = df/dy at the middle of the step on the predicted solution
+// (at (t0, y0) without a prediction). With A^-1 = V Lambda V^-1 the Newton
 // matrix I - h A (x) J decouples into s complex n x n systems (lambda_k / h - J) dW_k = R_k.
 // Error estimate: the embedded formula y^ = y0 + h (g0 f(t0, y0) + sum_i b^_i f(Y_i)) of order s
 // with g0 = 1 / lambda_real (the real eigenvalue of A^-1), filtered for stiff components:
@@ -49,14 +50,11 @@ namespace hertzgear::dynamics
     using cplx  = std::complex<double>;
     using Vec   = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, n_max, 1>;
     using Mat   = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, n_max>;
-    using CVec  = Eigen::Matrix<cplx, Eigen::Dynamic, 1, 0, n_max, 1>;
-    using CMat  = Eigen::Matrix<cplx, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, n_max>;
     using SVec  = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, s_max, 1>;
     using SMat  = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, s_max, s_max>;
     using SCMat = Eigen::Matrix<cplx, Eigen::Dynamic, Eigen::Dynamic, 0, s_max, s_max>;
     // n x s: column i is stage i.
     using Stages  = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, s_max>;
-    using CStages = Eigen::Matrix<cplx, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, s_max>;
 
     // The Radau IIA tableau with s stages and what the implementation derives from it.
     struct Tableau
@@ -570,7 +568,7 @@ namespace hertzgear::dynamics
       // step actually taken is returned (shorter than h_try when an event was located).
       double step(const double t, const Vec &y, double h_try, const std::string &remedy)
       {
-        if (have_predictor && settings.stages >= 0)
+        if (have_predictor)
           linearise(t, y, t + 0.5 * h_try, dense(y_prev, Z_prev, 1.0 + 0.5 * h_try / h_prev));
         else
           linearise(t, y, t, y);
