@@ -10,7 +10,9 @@ steady window and the largest error of the Poincare points. The ratio is reporte
 accuracy: each LSODA run against the cheapest hertzgear run that is at least as accurate.
 
 usage: scripts/bench_lsoda_dynamics.py HERTZGEAR_EXE [--periods N] [--rtols 1e-6,1e-8]
-                                      [--integrators cvode-bdf,radau-iia]
+                                      [--integrators cvode-bdf,radau-iia] [--repeat 3]
+
+Wall times are medians over --repeat runs (the machines are shared and noisy).
 """
 import argparse
 import json
@@ -82,6 +84,7 @@ def main():
     ap.add_argument("--periods", type=int, default=800)
     ap.add_argument("--rtols", default="1e-6,1e-8")
     ap.add_argument("--integrators", default="cvode-bdf,radau-iia")
+    ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     T = 2 * math.pi / OMEGA
     P = args.periods
@@ -102,17 +105,23 @@ def main():
     for rtol in [float(r) for r in args.rtols.split(",")]:
         atol = 1e-13 * rtol / 1e-8
         for integrator in args.integrators.split(","):
-            hg, hg_p = run_hertzgear(args.hertzgear, rtol, atol, P, os.path.join(tmp, f"hg{integrator}{rtol}"),
-                                     integrator)
-            rows.append((f"hertzgear {integrator}", rtol, hg["integrator"]["wall_time_s"],
+            walls = []
+            for _ in range(args.repeat):
+                hg, hg_p = run_hertzgear(args.hertzgear, rtol, atol, P,
+                                         os.path.join(tmp, f"hg{integrator}{rtol}"), integrator)
+                walls.append(hg["integrator"]["wall_time_s"])
+            rows.append((f"hertzgear {integrator}", rtol, float(np.median(walls)),
                          hg["integrator"]["rhs_evals"], abs(hg["rms_dte_um"] * 1e-6 - ref_rms) / ref_rms,
                          np.max(np.abs(hg_p - ref_p))))
 
         t_eval = np.union1d(t_steady, t_poincare)
-        start = time.perf_counter()
-        sol = solve_ivp(rhs, (0.0, P * T), Y0, method="LSODA", rtol=rtol,
-                        atol=[atol, atol * OMEGA, atol], t_eval=t_eval)
-        wall = time.perf_counter() - start
+        walls = []
+        for _ in range(args.repeat):
+            start = time.perf_counter()
+            sol = solve_ivp(rhs, (0.0, P * T), Y0, method="LSODA", rtol=rtol,
+                            atol=[atol, atol * OMEGA, atol], t_eval=t_eval)
+            walls.append(time.perf_counter() - start)
+        wall = float(np.median(walls))
         if not sol.success:
             rows.append(("scipy LSODA", rtol, wall, sol.nfev, float("nan"), float("nan")))
             continue
@@ -123,7 +132,8 @@ def main():
         rows.append(("scipy LSODA", rtol, wall, sol.nfev, abs(rms - ref_rms) / ref_rms,
                      np.max(np.abs(xp - ref_p))))
 
-    print(f"paper crowned pair, {P} mesh periods; reference hertzgear cvode-bdf rtol 1e-12, "
+    print(f"paper crowned pair, {P} mesh periods, median wall times of {args.repeat} runs; "
+          f"reference hertzgear cvode-bdf rtol 1e-12, "
           f"RMS DTE {ref['rms_dte_um']:.6f} um")
     print(f"{'solver':22s} {'rtol':>7s} {'wall [s]':>9s} {'RHS evals':>10s} {'RMS rel err':>12s} {'Poincare err [um]':>18s}")
     for r in rows:
