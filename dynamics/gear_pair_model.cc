@@ -124,10 +124,10 @@ namespace hertzgear::dynamics
     if (!prm.effects.rest_stiffness_variation)
       prm.stiffness.k_rest_N_per_m = prm.stiffness.k_rest_N_per_m.constant_part();
 
-    k_rest_series  = Harmonics(prm.stiffness.k_rest_N_per_m);
-    k_hertz_series = Harmonics(prm.stiffness.k_hertz_N_per_m_pow_n);
+    k_rest_series  = FourierEvaluator(prm.stiffness.k_rest_N_per_m);
+    k_hertz_series = FourierEvaluator(prm.stiffness.k_hertz_N_per_m_pow_n);
     if (prm.effects.ste_excitation)
-      ste_series = Harmonics(prm.stiffness.unloaded_ste_m);
+      ste_series = FourierEvaluator(prm.stiffness.unloaded_ste_m);
 
     n_exp           = prm.stiffness.hertz_exponent;
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
@@ -166,49 +166,9 @@ namespace hertzgear::dynamics
 
   double GearPairModel::mesh_period() const { return 2.0 * M_PI / prm.mesh_frequency_rad_per_s; }
 
-  GearPairModel::Harmonics::Harmonics(const FourierSeries &series) : mean(series.mean)
+  int GearPairModel::zone_of(const double p) const
   {
-    for (unsigned j = 0; j < series.amplitudes.size(); ++j)
-      {
-        a.push_back(series.amplitudes[j] * std::cos(series.phases_rad[j]));
-        b.push_back(series.amplitudes[j] * std::sin(series.phases_rad[j]));
-      }
-  }
-
-  // cos(j theta) and sin(j theta) by the angle-addition recurrence from one cos/sin pair; its
-  // rounding error grows like j eps, far below any tolerance for the harmonics a table has.
-  double GearPairModel::Harmonics::value(const double theta) const
-  {
-    double v = mean;
-    if (a.empty())
-      return v;
-    const double c1 = std::cos(theta), s1 = std::sin(theta);
-    double       cj = c1, sj = s1;
-    for (std::size_t j = 0; j < a.size(); ++j)
-      {
-        v += a[j] * cj + b[j] * sj;
-        const double c_next = cj * c1 - sj * s1;
-        sj                  = sj * c1 + cj * s1;
-        cj                  = c_next;
-      }
-    return v;
-  }
-
-  double GearPairModel::Harmonics::derivative(const double theta) const
-  {
-    if (a.empty())
-      return 0.0;
-    double       d  = 0.0;
-    const double c1 = std::cos(theta), s1 = std::sin(theta);
-    double       cj = c1, sj = s1;
-    for (std::size_t j = 0; j < a.size(); ++j)
-      {
-        d += double(j + 1) * (b[j] * cj - a[j] * sj);
-        const double c_next = cj * c1 - sj * s1;
-        sj                  = sj * c1 + cj * s1;
-        cj                  = c_next;
-      }
-    return d;
+    return b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
   }
 
   double GearPairModel::k_rest(const double t) const
@@ -273,7 +233,7 @@ namespace hertzgear::dynamics
     const double p = y[0] - excitation(t);
     const double p_dot =
       y[1] - (prm.effects.ste_excitation ? w * ste_series.derivative(w * t) : 0.0);
-    r.zone = b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
+    r.zone = zone_of(p);
     if (r.zone != 0 || b_c == 0.0)
       {
         r.f     = p - r.zone * b_c;
@@ -428,7 +388,7 @@ namespace hertzgear::dynamics
         // the open layer relaxes to delta = 0 with the time constant c/k, and its rounding-level
         // sign changes are no events: there the function is |p| - b_c < 0 instead, which meets
         // delta (~0 after the relaxation) continuously at the zone boundary.
-        const int zone = b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
+        const int zone = zone_of(p);
         g[i++]         = zone != 0 ? zone * y[2] : std::abs(p) - b_c;
       }
   }

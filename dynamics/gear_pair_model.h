@@ -130,19 +130,9 @@ namespace hertzgear::dynamics
       bool   layer_closed = false;
       double penetration  = 0;
     };
-    // A Fourier series as mean + sum_j a_j cos(j theta) + b_j sin(j theta), evaluated with one
-    // cos/sin pair per call (the right-hand side needs k_h(t) at every stage).
-    struct Harmonics
-    {
-      Harmonics() = default;
-      explicit Harmonics(const FourierSeries &series);
-      double              value(double theta) const;
-      double              derivative(double theta) const; // d value / d theta
-      double              mean = 0.0;
-      std::vector<double> a, b;
-    };
-
     Forces evaluate(double t, const double *y) const;
+    // Backlash zone of p = x - e: +1 forward contact, -1 back side, 0 in the backlash.
+    int    zone_of(double p) const;
     double k_rest(double t) const;
     double k_rest_rate(double t) const;
     double k_hertz(double t) const;
@@ -151,7 +141,7 @@ namespace hertzgear::dynamics
     double quasi_static_penetration(double f, double k, double kh) const;
 
     GearPairParameters prm;
-    Harmonics          k_rest_series, k_hertz_series, ste_series;
+    FourierEvaluator   k_rest_series, k_hertz_series, ste_series;
     bool               has_delta_state  = false;
     unsigned           n_root_functions = 0;
     double             n_exp            = 1.0;

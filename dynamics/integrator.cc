@@ -68,7 +68,12 @@ namespace hertzgear::dynamics
   void check_state(const OdeSystem &system, const double t, const double *y,
                    const std::string &who, const std::string &remedy)
   {
-    const auto bounds = system.blow_up_bounds();
+    check_state(system, system.blow_up_bounds(), t, y, who, remedy);
+  }
+
+  void check_state(const OdeSystem &system, const std::vector<double> &bounds, const double t,
+                   const double *y, const std::string &who, const std::string &remedy)
+  {
     for (unsigned i = 0; i < system.n_states(); ++i)
       if (!std::isfinite(y[i]) || std::abs(y[i]) > bounds[i])
         throw NumericalError(msg(who, (std::isfinite(y[i]) ? " blew up" : " produced a NaN/inf"),
@@ -102,6 +107,7 @@ namespace hertzgear::dynamics
         const std::string remedy =
           msg("the fixed step h = ", h, " s is too large for this stiff system; use "
               "Dynamics/integrator = cvode-bdf, or more Dynamics/steps_per_period");
+        const std::vector<double> bounds = system.blow_up_bounds();
 
         std::vector<double> k1(n), k2(n), k3(n), k4(n), tmp(n);
         const unsigned      n_roots = system.n_roots();
@@ -131,7 +137,7 @@ namespace hertzgear::dynamics
                   y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
                 statistics.rhs_evals += 4;
                 ++statistics.steps;
-                check_state(system, t + h, y.data(), "rk4", remedy);
+                check_state(system, bounds, t + h, y.data(), "rk4", remedy);
 
                 if (n_roots)
                   {

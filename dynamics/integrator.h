@@ -79,4 +79,7 @@ namespace hertzgear::dynamics
   // Throws NumericalError if y has a NaN/inf or leaves the system's blow-up bounds.
   void check_state(const OdeSystem &system, double t, const double *y, const std::string &who,
                    const std::string &remedy);
+  // The same with the bounds fetched once (system.blow_up_bounds()), for checks at every step.
+  void check_state(const OdeSystem &system, const std::vector<double> &bounds, double t,
+                   const double *y, const std::string &who, const std::string &remedy);
 } // namespace hertzgear::dynamics

@@ -241,16 +241,12 @@ namespace hertzgear::dynamics
       T.V_inv = T.V.inverse();
       T.g0 = 1.0 / T.lambda[T.real_index].real();
 
-      // Embedded weights b^ of order s: g0 [q == 1] + sum_i b^_i c_i^(q-1) = 1/q, q = 1..s.
-      LMat        Q(s, s);
+      // Embedded weights b^ of order s: g0 [q == 1] + sum_i b^_i c_i^(q-1) = 1/q, q = 1..s, a
+      // system with the transposed Vandermonde matrix: b^ = L^T rhs.
       Eigen::Matrix<long double, Eigen::Dynamic, 1> rhs(s);
       for (int q = 1; q <= s; ++q)
-        {
-          for (int i = 0; i < s; ++i)
-            Q(q - 1, i) = std::pow((long double)T.c[i], q - 1);
-          rhs[q - 1] = 1.0L / q - (q == 1 ? (long double)T.g0 : 0.0L);
-        }
-      const Eigen::Matrix<long double, Eigen::Dynamic, 1> b_hat = Q.fullPivLu().solve(rhs);
+        rhs[q - 1] = 1.0L / q - (q == 1 ? (long double)T.g0 : 0.0L);
+      const Eigen::Matrix<long double, Eigen::Dynamic, 1> b_hat = L.transpose() * rhs;
       SVec d(s);
       for (int i = 0; i < s; ++i)
         d[i] = double(b_hat[i]) - T.b[i];
@@ -320,6 +316,7 @@ namespace hertzgear::dynamics
         const std::string remedy =
           "check that the scene is physical (positive stiffness and damping), or relax "
           "Dynamics/relative_tolerance, or use Dynamics/integrator = cvode-bdf";
+        const std::vector<double> bounds = system.blow_up_bounds();
         for (long out = 1; out <= n_outputs; ++out)
           {
             const double tout  = t0 + out * output_interval;
@@ -340,7 +337,7 @@ namespace hertzgear::dynamics
                 const double h_done = step(t, y, h_try, remedy);
                 t                   = (to_end && h_done == h_try) ? tout : t + h_done;
                 y                   = y_next;
-                check_state(system, t, y.data(), "radau-iia", remedy);
+                check_state(system, bounds, t, y.data(), "radau-iia", remedy);
               }
             if (observer)
               observer(tout, y.data());

@@ -60,6 +60,49 @@ namespace hertzgear::dynamics
     return d;
   }
 
+  FourierEvaluator::FourierEvaluator(const FourierSeries &series) : mean(series.mean)
+  {
+    for (unsigned j = 0; j < series.amplitudes.size(); ++j)
+      {
+        a.push_back(series.amplitudes[j] * std::cos(series.phases_rad[j]));
+        b.push_back(series.amplitudes[j] * std::sin(series.phases_rad[j]));
+      }
+  }
+
+  double FourierEvaluator::value(const double theta) const
+  {
+    double v = mean;
+    if (a.empty())
+      return v;
+    const double c1 = std::cos(theta), s1 = std::sin(theta);
+    double       cj = c1, sj = s1;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      {
+        v += a[j] * cj + b[j] * sj;
+        const double c_next = cj * c1 - sj * s1;
+        sj                  = sj * c1 + cj * s1;
+        cj                  = c_next;
+      }
+    return v;
+  }
+
+  double FourierEvaluator::derivative(const double theta) const
+  {
+    if (a.empty())
+      return 0.0;
+    double       d  = 0.0;
+    const double c1 = std::cos(theta), s1 = std::sin(theta);
+    double       cj = c1, sj = s1;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      {
+        d += double(j + 1) * (b[j] * cj - a[j] * sj);
+        const double c_next = cj * c1 - sj * s1;
+        sj                  = sj * c1 + cj * s1;
+        cj                  = c_next;
+      }
+    return d;
+  }
+
   double FourierSeries::amplitude_bound() const
   {
     double b = 0.0;

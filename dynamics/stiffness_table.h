@@ -26,6 +26,22 @@ namespace hertzgear::dynamics
     double amplitude_bound() const;
   };
 
+  // The same series in the form mean + sum_j a_j cos(j theta) + b_j sin(j theta), evaluated with one
+  // cos/sin pair per call (the angle-addition recurrence gives the higher orders; its rounding
+  // grows like j eps). For right-hand sides that evaluate a series at every stage.
+  class FourierEvaluator
+  {
+  public:
+    FourierEvaluator() = default;
+    explicit FourierEvaluator(const FourierSeries &series);
+    double value(double theta) const;
+    double derivative(double theta) const; // d value / d theta
+
+  private:
+    double              mean = 0.0;
+    std::vector<double> a, b;
+  };
+
   // Fit `n_harmonics` harmonics to `samples` taken at theta_i = 2 pi i / S, i = 0..S-1 (one mesh
   // cycle), with FFTW's real-to-complex transform. Requires S >= 2 n_harmonics + 1.
   FourierSeries fit_fourier_series(const std::vector<double> &samples, unsigned n_harmonics);

@@ -15,6 +15,27 @@ using namespace hertzgear::dynamics::testing;
 // Requirement: a Fourier fit by FFTW of S uniform samples of a series with h <= (S-1)/2 harmonics
 // returns its mean, amplitudes and phases. Tolerance 1e-12 relative: the DFT of exactly
 // representable samples is exact up to round-off (a few ulp times log2 S).
+// Requirement: the cos/sin-form evaluator the model uses at every stage returns the series'
+// value and derivative. 20 harmonics of decreasing amplitude at 50 phases: the recurrence's
+// rounding grows like j eps, so 1e-13 of the amplitude sum bounds the difference.
+TEST(StiffnessTable, FourierEvaluatorMatchesTheSeries)
+{
+  FourierSeries series{5.0e10, {}, {}};
+  for (int j = 1; j <= 20; ++j)
+    {
+      series.amplitudes.push_back(2.0e10 / j);
+      series.phases_rad.push_back(0.7 * j - 3.0);
+    }
+  const FourierEvaluator fast(series);
+  const double           scale = series.amplitude_bound();
+  for (int i = 0; i < 50; ++i)
+    {
+      const double theta = -20.0 + 0.83 * i;
+      EXPECT_NEAR(fast.value(theta), series.value(theta), 1e-13 * (series.mean + scale));
+      EXPECT_NEAR(fast.derivative(theta), series.derivative(theta), 1e-13 * 20 * scale);
+    }
+}
+
 TEST(StiffnessTable, FourierFitRecoversTheSeries)
 {
   const FourierSeries truth{5.0e10, {2.0e10, 4.0e9, 6.0e9}, {0.3, -2.0, 1.1}};
