@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <sstream>
 
 namespace hertzgear::dynamics
@@ -130,6 +133,8 @@ namespace hertzgear::dynamics
       ste_series = FourierEvaluator(prm.stiffness.unloaded_ste_m);
 
     n_exp           = prm.stiffness.hertz_exponent;
+    need_rates      = prm.effects.hertzian_layer == HertzianLayer::quasi_static;
+    cache_t.fill(std::numeric_limits<double>::quiet_NaN()); // no t matches
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
     if (prm.rigid_structure)
@@ -171,27 +176,33 @@ namespace hertzgear::dynamics
     return b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
   }
 
-  double GearPairModel::k_rest(const double t) const
+  const GearPairModel::Coefficients &GearPairModel::coefficients(const double t) const
   {
-    return k_rest_series.value(prm.mesh_frequency_rad_per_s * t);
-  }
-  double GearPairModel::k_rest_rate(const double t) const
-  {
-    return prm.mesh_frequency_rad_per_s * k_rest_series.derivative(prm.mesh_frequency_rad_per_s * t);
-  }
-  double GearPairModel::k_hertz(const double t) const
-  {
-    return k_hertz_series.value(prm.mesh_frequency_rad_per_s * t);
-  }
-  double GearPairModel::k_hertz_rate(const double t) const
-  {
-    return prm.mesh_frequency_rad_per_s * k_hertz_series.derivative(prm.mesh_frequency_rad_per_s * t);
+    // Direct-mapped on the bits of t: one comparison; a collision only costs a recomputation.
+    std::uint64_t bits;
+    std::memcpy(&bits, &t, sizeof bits);
+    const unsigned slot = unsigned(((bits ^ (bits >> 32)) * 0x9E3779B97F4A7C15ull) >> 58) % cache_size;
+    if (cache_t[slot] == t)
+      return cache_value[slot];
+    Coefficients &r = cache_value[slot];
+    cache_t[slot]       = t;
+    const double w      = prm.mesh_frequency_rad_per_s;
+    double       c1 = 1.0, s1 = 0.0;
+    if (!(k_rest_series.constant() && k_hertz_series.constant() && ste_series.constant()))
+      {
+        c1 = std::cos(w * t);
+        s1 = std::sin(w * t);
+      }
+    r.k  = k_rest_series.value(c1, s1);
+    r.kh = k_hertz_series.value(c1, s1);
+    r.k_rate  = need_rates ? w * k_rest_series.derivative(c1, s1) : 0.0;
+    r.kh_rate = need_rates ? w * k_hertz_series.derivative(c1, s1) : 0.0;
+    r.e       = prm.effects.ste_excitation ? ste_series.value(c1, s1) : 0.0;
+    r.e_rate  = prm.effects.ste_excitation ? w * ste_series.derivative(c1, s1) : 0.0;
+    return r;
   }
 
-  double GearPairModel::excitation(const double t) const
-  {
-    return prm.effects.ste_excitation ? ste_series.value(prm.mesh_frequency_rad_per_s * t) : 0.0;
-  }
+  double GearPairModel::excitation(const double t) const { return coefficients(t).e; }
 
   double GearPairModel::quasi_static_penetration(const double f, const double k,
                                                  const double kh) const
@@ -228,18 +239,17 @@ namespace hertzgear::dynamics
 
   GearPairModel::Forces GearPairModel::evaluate(const double t, const double *y) const
   {
-    Forces       r;
-    const double w = prm.mesh_frequency_rad_per_s;
-    const double p = y[0] - excitation(t);
-    const double p_dot =
-      y[1] - (prm.effects.ste_excitation ? w * ste_series.derivative(w * t) : 0.0);
+    Forces              r;
+    const Coefficients &co = coefficients(t);
+    const double p     = y[0] - co.e;
+    const double p_dot = y[1] - co.e_rate;
     r.zone = zone_of(p);
     if (r.zone != 0 || b_c == 0.0)
       {
         r.f     = p - r.zone * b_c;
         r.f_dot = p_dot;
       }
-    const double k = k_rest(t), c = prm.damping_N_s_per_m;
+    const double k = co.k, c = prm.damping_N_s_per_m;
 
     switch (prm.effects.hertzian_layer)
       {
@@ -282,13 +292,14 @@ namespace hertzgear::dynamics
             r.layer_closed = r.zone != 0 && d * r.zone > 0.0;
             if (r.layer_closed)
               {
-                const double D = c + mu * H(d, n_exp);
-                const double N = k * (r.f - d) + c * r.f_dot - kh * G(d, n_exp);
-                r.delta_dot    = D > 0.0 ? N / D : 0.0;
+                const double Hd = H(d, n_exp), Gd = sign(d) * Hd;
+                const double D  = c + mu * Hd;
+                const double N  = k * (r.f - d) + c * r.f_dot - kh * Gd;
+                r.delta_dot     = D > 0.0 ? N / D : 0.0;
                 // The layer opens when delta returns to 0 (an event). Before that, in a rebound
                 // faster than 1/(1.5 alpha), the Hunt-Crossley term may make F pull briefly: it is
                 // kept (Kahraman-Singh convention), which keeps the vector field continuous.
-                r.force = kh * G(d, n_exp) + mu * H(d, n_exp) * r.delta_dot;
+                r.force = kh * Gd + mu * Hd * r.delta_dot;
               }
             if (!r.layer_closed)
               {

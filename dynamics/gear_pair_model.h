@@ -7,6 +7,7 @@
 #include "dynamics/ode_system.h"
 #include "dynamics/stiffness_table.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -133,10 +134,19 @@ namespace hertzgear::dynamics
     Forces evaluate(double t, const double *y) const;
     // Backlash zone of p = x - e: +1 forward contact, -1 back side, 0 in the backlash.
     int    zone_of(double p) const;
-    double k_rest(double t) const;
-    double k_rest_rate(double t) const;
-    double k_hertz(double t) const;
-    double k_hertz_rate(double t) const;
+    // The coefficients that depend on time only: one cos/sin pair of the mesh angle serves every
+    // series. Recent ones are kept by t, since an implicit integrator evaluates the right-hand
+    // side at the same stage times in every Newton iteration (which is also why one model must
+    // not be shared between threads).
+    struct Coefficients
+    {
+      double k = 0, k_rate = 0, kh = 0, kh_rate = 0, e = 0, e_rate = 0;
+    };
+    const Coefficients &coefficients(double t) const;
+    double k_rest(double t) const { return coefficients(t).k; }
+    double k_rest_rate(double t) const { return coefficients(t).k_rate; }
+    double k_hertz(double t) const { return coefficients(t).kh; }
+    double k_hertz_rate(double t) const { return coefficients(t).kh_rate; }
     // delta from k (f - delta) = k_h G(delta) by Newton safeguarded with bisection.
     double quasi_static_penetration(double f, double k, double kh) const;
 
@@ -148,5 +158,9 @@ namespace hertzgear::dynamics
     double             b_c              = 0.0;
     double             mu               = 0.0; // current contact damping coefficient
     double             x_scale          = 0.0;
+    bool               need_rates       = false; // k' and k_h' (quasi-static layer only)
+    static constexpr unsigned cache_size = 64;
+    mutable std::array<double, cache_size>       cache_t;
+    mutable std::array<Coefficients, cache_size> cache_value;
   };
 } // namespace hertzgear::dynamics

@@ -39,6 +39,8 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <memory>
+#include <type_traits>
 
 namespace hertzgear::dynamics
 {
@@ -48,13 +50,9 @@ namespace hertzgear::dynamics
     constexpr int s_max = 9; // largest number of stages
 
     using cplx  = std::complex<double>;
-    using Vec   = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, n_max, 1>;
-    using Mat   = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, n_max>;
     using SVec  = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, s_max, 1>;
     using SMat  = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, s_max, s_max>;
     using SCMat = Eigen::Matrix<cplx, Eigen::Dynamic, Eigen::Dynamic, 0, s_max, s_max>;
-    // n x s: column i is stage i.
-    using Stages  = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, n_max, s_max>;
 
     // The Radau IIA tableau with s stages and what the implementation derives from it.
     struct Tableau
@@ -72,69 +70,107 @@ namespace hertzgear::dynamics
       std::vector<double> rep_weight;
     };
 
-    // LU with partial pivoting of the complex n x n matrix shift I - J (n <= n_max), written out:
-    // the gear pair has n = 2 or 3, where Eigen's dynamic-size complex LU costs more than the
-    // arithmetic.
-    struct SmallComplexLU
+    // LU with partial pivoting of shift I - J for a small n x n Jacobian (real or complex shift),
+    // written out: the gear pair has n = 2 or 3, where a general dense LU costs more than the
+    // arithmetic. N > 0 fixes n at compile time; N = 0 takes it at run time (n <= n_max).
+    // Products written out: std::complex's operator* also handles infinities and NaNs (C99 Annex
+    // G), which the Newton iterations do not need (a non-finite stage is a failed iteration).
+    inline double mul(const double a, const double b) { return a * b; }
+    inline cplx   mul(const cplx a, const cplx b)
     {
-      int  n = 0;
-      cplx a[n_max][n_max];
-      cplx inv_pivot[n_max];
-      int  perm[n_max];
+      return cplx(a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real());
+    }
 
-      void factor(const Mat &J, const cplx shift)
+    template <typename T, int N>
+    struct SmallLU
+    {
+      static constexpr int NM = N > 0 ? N : n_max;
+      int n_rt = N;
+      T   a[NM][NM];
+      T   inv_pivot[NM];
+      int perm[NM];
+
+      int dim() const
       {
-        n = int(J.rows());
-        for (int i = 0; i < n; ++i)
-          for (int j = 0; j < n; ++j)
-            a[i][j] = (i == j ? shift : cplx(0.0)) - J(i, j);
-        for (int i = 0; i < n; ++i)
+        if constexpr (N > 0)
+          return N;
+        else
+          return n_rt;
+      }
+
+      static double magnitude(const T &x)
+      {
+        if constexpr (std::is_same_v<T, double>)
+          return std::abs(x);
+        else
+          return std::norm(x);
+      }
+
+      static T inverse(const T &x)
+      {
+        if constexpr (std::is_same_v<T, double>)
+          return x != 0.0 ? 1.0 / x : 0.0;
+        else
+          {
+            const double nn = std::norm(x);
+            return nn > 0.0 ? std::conj(x) / nn : T(0.0);
+          }
+      }
+
+      // J is row-major with leading dimension NM.
+      void factor(const double (&J)[NM][NM], const int n, const T shift)
+      {
+        n_rt = n;
+        const int m = dim();
+        for (int i = 0; i < m; ++i)
+          for (int j = 0; j < m; ++j)
+            a[i][j] = (i == j ? shift : T(0.0)) - J[i][j];
+        for (int i = 0; i < m; ++i)
           perm[i] = i;
-        for (int k = 0; k < n; ++k)
+        for (int k = 0; k < m; ++k)
           {
             int    p    = k;
-            double best = std::norm(a[k][k]);
-            for (int i = k + 1; i < n; ++i)
-              if (std::norm(a[i][k]) > best)
+            double best = magnitude(a[k][k]);
+            for (int i = k + 1; i < m; ++i)
+              if (magnitude(a[i][k]) > best)
                 {
-                  best = std::norm(a[i][k]);
+                  best = magnitude(a[i][k]);
                   p    = i;
                 }
             if (p != k)
               {
-                for (int j = 0; j < n; ++j)
+                for (int j = 0; j < m; ++j)
                   std::swap(a[k][j], a[p][j]);
                 std::swap(perm[k], perm[p]);
               }
-            const cplx piv = a[k][k];
-            const double nn = std::norm(piv);
-            inv_pivot[k]    = nn > 0.0 ? std::conj(piv) / nn : cplx(0.0);
-            for (int i = k + 1; i < n; ++i)
+            inv_pivot[k] = inverse(a[k][k]);
+            for (int i = k + 1; i < m; ++i)
               {
-                const cplx l = a[i][k] * inv_pivot[k];
-                a[i][k]      = l;
-                for (int j = k + 1; j < n; ++j)
-                  a[i][j] -= l * a[k][j];
+                const T l = mul(a[i][k], inv_pivot[k]);
+                a[i][k]   = l;
+                for (int j = k + 1; j < m; ++j)
+                  a[i][j] -= mul(l, a[k][j]);
               }
           }
       }
 
       // x = (shift I - J)^-1 b, in place.
-      void solve(cplx *b) const
+      void solve(T *b) const
       {
-        cplx x[n_max];
-        for (int i = 0; i < n; ++i)
+        const int m = dim();
+        T         x[NM];
+        for (int i = 0; i < m; ++i)
           x[i] = b[perm[i]];
-        for (int i = 1; i < n; ++i)
+        for (int i = 1; i < m; ++i)
           for (int j = 0; j < i; ++j)
-            x[i] -= a[i][j] * x[j];
-        for (int i = n - 1; i >= 0; --i)
+            x[i] -= mul(a[i][j], x[j]);
+        for (int i = m - 1; i >= 0; --i)
           {
-            for (int j = i + 1; j < n; ++j)
-              x[i] -= a[i][j] * x[j];
-            x[i] *= inv_pivot[i];
+            for (int j = i + 1; j < m; ++j)
+              x[i] -= mul(a[i][j], x[j]);
+            x[i] = mul(x[i], inv_pivot[i]);
           }
-        for (int i = 0; i < n; ++i)
+        for (int i = 0; i < m; ++i)
           b[i] = x[i];
       }
     };
@@ -254,42 +290,76 @@ namespace hertzgear::dynamics
       return T;
     }
 
-    class RadauIIA : public Integrator
+    // The integrator proper for a state of dimension N (0: at run time, <= n_max) and S stages,
+    // both fixed at compile time for the gear pair (n = 2 or 3, s = 3, 5, 7 or 9) so that the
+    // loops over states and stages unroll; a step costs a few microseconds, of which the
+    // right-hand side is a third.
+    class RadauCoreBase
     {
     public:
-      explicit RadauIIA(const IntegratorSettings &st)
-        : settings(st)
-        , tab(make_tableau(st.stages > 0 ? st.stages : default_stages(st.relative_tolerance)))
-      {
-        statistics.name = "radau-iia";
-        const int s     = tab.s;
-        rtol_est  = 0.1 * std::pow(settings.relative_tolerance, (s + 1.0) / (2.0 * s));
-        atol_fac  = rtol_est / settings.relative_tolerance;
-      }
+      virtual ~RadauCoreBase() = default;
+      virtual void integrate(OdeSystem &system, double t0, std::vector<double> &y0,
+                             double output_interval, long n_outputs, const Observer &observer) = 0;
+    };
 
-      // Stages by tolerance: the cheapest order that takes steps of a few hundredths of a mesh
-      // period (measured in docs/accuracy-dynamics.md).
-      static int default_stages(const double rtol)
+    template <int N, int S>
+    class RadauCore final : public RadauCoreBase
+    {
+      static constexpr int NM = N > 0 ? N : n_max;
+      static constexpr int R  = (S + 1) / 2; // one real eigenvalue and (S - 1) / 2 pairs
+      using V      = std::array<double, NM>;
+      using Stages = std::array<V, S>; // Stages[i] is stage i
+
+    public:
+      RadauCore(const IntegratorSettings &st, const Tableau &tab, IntegratorStats &stats,
+                const int n_states)
+        : settings(st)
+        , statistics(stats)
+        , n_rt(n_states)
       {
-        if (rtol >= 1e-5)
-          return 3;
-        if (rtol >= 1e-10)
-          return 5;
-        return 7;
+        for (int i = 0; i < S; ++i)
+          {
+            c[i] = tab.c[i];
+            e[i] = tab.e[i];
+            for (int j = 0; j < S; ++j)
+              A_inv[i][j] = tab.A_inv(i, j);
+            // l_i(tau) = tau prod_{j != i} (tau - c_j) / (c_i prod_{j != i} (c_i - c_j)).
+            double d = tab.c[i];
+            for (int j = 0; j < S; ++j)
+              if (j != i)
+                d *= tab.c[i] - tab.c[j];
+            lagrange_weight[i] = 1.0 / d;
+          }
+        g0 = tab.g0;
+        // The real eigenvalue first, then one of each conjugate pair.
+        int q = 0;
+        for (std::size_t r = 0; r < tab.reps.size(); ++r)
+          {
+            const int k   = tab.reps[r];
+            const int dst = k == tab.real_index ? 0 : ++q;
+            HG_REQUIRE_INPUT(dst < R, "radau-iia: unexpected eigen-decomposition for s = ", S);
+            lambda[dst] = tab.lambda[k];
+            weight[dst] = tab.rep_weight[r];
+            for (int i = 0; i < S; ++i)
+              {
+                V_col[dst][i]  = tab.V(i, k);
+                V_inv_row[dst][i] = tab.V_inv(k, i);
+              }
+          }
+        HG_REQUIRE_INPUT(q == R - 1, "radau-iia: unexpected eigen-decomposition for s = ", S);
+        const double rtol = settings.relative_tolerance;
+        rtol_est          = 0.1 * std::pow(rtol, (S + 1.0) / (2.0 * S));
+        atol_fac          = rtol_est / rtol;
       }
 
       void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
                      const double output_interval, const long n_outputs,
                      const Observer &observer) override
       {
-        const auto start = std::chrono::steady_clock::now();
-        n                = int(system.n_states());
-        HG_REQUIRE_INPUT(n >= 1 && n <= n_max, "the radau-iia integrator handles up to ", n_max,
-                         " states, the system has ", n);
-        sys = &system;
+        const int n = dim();
+        sys         = &system;
         {
           const auto a = system.absolute_tolerances(settings.absolute_tolerance);
-          atol.resize(n);
           for (int i = 0; i < n; ++i)
             atol[i] = a[i];
         }
@@ -301,7 +371,9 @@ namespace hertzgear::dynamics
         directions.assign(n_roots, 0);
         have_predictor = false;
 
-        Vec    y = Eigen::Map<const Vec>(y0.data(), n);
+        V y{};
+        for (int i = 0; i < n; ++i)
+          y[i] = y0[i];
         double t = t0;
         if (H <= 0.0) // first call: a conservative first step, the control takes over
           H = std::min(output_interval, settings.max_step > 0 ? settings.max_step : output_interval) * 1e-2;
@@ -344,58 +416,64 @@ namespace hertzgear::dynamics
           }
         for (int i = 0; i < n; ++i)
           y0[i] = y[i];
-        statistics.wall_time_s +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }
 
     private:
-      // Weighted RMS norm of e with the scale atol f + rtol max(|a|, |b|).
-      double error_norm(const Vec &e, const Vec &a, const Vec &b, const double rtol,
-                        const double f) const
+      int dim() const
       {
-        double sum = 0.0;
+        if constexpr (N > 0)
+          return N;
+        else
+          return n_rt;
+      }
+
+      // Weighted RMS norm of e with the scale f atol + rtol max(|a|, |b|).
+      double error_norm(const V &err, const V &a, const V &b, const double rtol, const double f) const
+      {
+        const int n   = dim();
+        double    sum = 0.0;
         for (int i = 0; i < n; ++i)
           {
             const double sc = f * atol[i] + rtol * std::max(std::abs(a[i]), std::abs(b[i]));
-            sum += (e[i] / sc) * (e[i] / sc);
+            sum += (err[i] / sc) * (err[i] / sc);
           }
         return std::sqrt(sum / n);
       }
 
-      // Same over all stages of Z (scale from y0 + Z_i and y0).
-      double stage_norm(const Stages &Z, const Vec &y, const Stages &dZ) const
+      // The same over all stages (scale from y0 + Z_i and y0).
+      double stage_norm(const V &y, const Stages &dZ) const
       {
-        double sum = 0.0;
-        for (int i = 0; i < tab.s; ++i)
+        const int    n    = dim();
+        const double rtol = settings.relative_tolerance;
+        double       sum  = 0.0;
+        for (int i = 0; i < S; ++i)
           for (int r = 0; r < n; ++r)
             {
-              const double sc = atol[r] + settings.relative_tolerance *
-                                            std::max(std::abs(y[r]), std::abs(y[r] + Z(r, i)));
-              sum += (dZ(r, i) / sc) * (dZ(r, i) / sc);
+              const double sc = atol[r] + rtol * std::max(std::abs(y[r]), std::abs(y[r] + Z[i][r]));
+              sum += (dZ[i][r] / sc) * (dZ[i][r] / sc);
             }
-        return std::sqrt(sum / (n * tab.s));
+        return std::sqrt(sum / (n * S));
       }
 
       // f0 = f(t, y) and J = df/dy at (tj, yj): the middle of the coming step on the predicted
       // solution when there is a prediction (the stiff eigenvalue follows k_h(t), and a Jacobian
       // from the step's middle halves what the simplified Newton iteration has to make up).
-      void linearise(const double t, const Vec &y, const double tj, const Vec &yj)
+      void linearise(const double t, const V &y, const double tj, const V &yj)
       {
-        f0.resize(n);
+        const int n = dim();
         sys->rhs(t, y.data(), f0.data());
         ++statistics.rhs_evals;
-        J.resize(n, n);
         if (sys->has_jacobian())
           {
-            double jac[n_max * n_max];
+            double jac[NM * NM];
             sys->jacobian(tj, yj.data(), jac);
             for (int i = 0; i < n; ++i)
               for (int j = 0; j < n; ++j)
-                J(i, j) = jac[i * n + j];
+                J[i][j] = jac[i * n + j];
           }
         else
           {
-            Vec yp = yj, fp(n), fj(n);
+            V yp = yj, fp{}, fj{};
             sys->rhs(tj, yj.data(), fj.data());
             for (int j = 0; j < n; ++j)
               {
@@ -403,8 +481,9 @@ namespace hertzgear::dynamics
                                   std::max(std::abs(yj[j]), atol[j] / settings.relative_tolerance);
                 yp[j] = yj[j] + dy;
                 sys->rhs(tj, yp.data(), fp.data());
-                J.col(j) = (fp - fj) / dy;
-                yp[j]    = yj[j];
+                for (int i = 0; i < n; ++i)
+                  J[i][j] = (fp[i] - fj[i]) / dy;
+                yp[j] = yj[j];
               }
             statistics.rhs_evals += n + 1;
           }
@@ -412,95 +491,130 @@ namespace hertzgear::dynamics
         lu_valid = false;
       }
 
-      // The collocation polynomial of the last solve at tau = (t - t0) / h: Lagrange form through
-      // (0, y0) and (c_i, y0 + Z_i).
-      Vec dense(const Vec &y, const Stages &Zs, const double tau) const
+      // The collocation polynomial of a solve at tau = (t - t0) / h: Lagrange form through
+      // (0, y0) and (c_i, y0 + Z_i); since the basis sums to one,
+      // u(tau) = y0 + sum_i Z_i l_i(tau).
+      V dense(const V &y, const Stages &Zs, const double tau) const
       {
-        Vec u = y;
-        // l_0 (the node 0) multiplies y0, which is the constant part; Z carries the rest:
-        // u(tau) = y0 + sum_i Z_i l_i(tau) since sum of all l = 1.
-        for (int i = 0; i < tab.s; ++i)
+        const int n = dim();
+        double    l[S];
+        for (int i = 0; i < S; ++i)
           {
-            double l = tau / tab.c[i]; // the factor of node 0
-            for (int j = 0; j < tab.s; ++j)
+            double p = tau * lagrange_weight[i];
+            for (int j = 0; j < S; ++j)
               if (j != i)
-                l *= (tau - tab.c[j]) / (tab.c[i] - tab.c[j]);
-            u += l * Zs.col(i);
+                p *= tau - c[j];
+            l[i] = p;
           }
+        V u = y;
+        for (int i = 0; i < S; ++i)
+          for (int r = 0; r < n; ++r)
+            u[r] += l[i] * Zs[i][r];
         return u;
       }
 
       // Solves the collocation equations for a step of size h from (t, y), with J and f0 from
       // linearise(t, y). On success Z holds the stage increments and y_next = y + Z_s.
-      bool solve(const double t, const Vec &y, const double h)
+      bool solve(const double t, const V &y, const double h)
       {
-        const int s = tab.s;
+        const int n = dim();
         // LU of lambda_k / h - J for one eigenvalue of each conjugate pair of A^-1; kept while
         // neither J nor h changed.
         if (!lu_valid || h != h_lu)
           {
-            for (const int k : tab.reps)
-              lu[k].factor(J, tab.lambda[k] / h);
+            lu_real.factor(J, n, lambda[0].real() / h);
+            for (int q = 1; q < R; ++q)
+              lu_cplx[q].factor(J, n, lambda[q] / h);
             lu_valid = true;
             h_lu     = h;
           }
-        Z.resize(n, s);
         if (have_predictor)
           {
             // Extrapolate the previous collocation polynomial (Hairer & Wanner's starting values).
-            for (int i = 0; i < s; ++i)
-              Z.col(i) = dense(y_prev, Z_prev, 1.0 + tab.c[i] * h / h_prev) - y;
+            for (int i = 0; i < S; ++i)
+              {
+                const V u = dense(y_prev, Z_prev, 1.0 + c[i] * h / h_prev);
+                for (int r = 0; r < n; ++r)
+                  Z[i][r] = u[r] - y[r];
+              }
           }
         else
-          Z.setZero();
-        Stages F(n, s), dZ(n, s);
-        Vec    Y(n);
-        double R[n_max][s_max];
-        cplx   W[s_max][n_max];
-        double dn_old = 0.0;
-        const double kappa = 0.05;
+          Z = Stages{};
+        Stages       F{}, dZ{};
+        double       Rr[S][NM];
+        double       dn_old = 0.0;
+        const double kappa  = 0.05;
+        const double h_inv  = 1.0 / h;
         for (int it = 0; it < max_newton; ++it)
           {
-            for (int i = 0; i < s; ++i)
+            for (int i = 0; i < S; ++i)
               {
-                Y = y + Z.col(i);
-                sys->rhs(t + tab.c[i] * h, Y.data(), F.col(i).data());
+                V Y;
+                for (int r = 0; r < n; ++r)
+                  Y[r] = y[r] + Z[i][r];
+                sys->rhs(t + c[i] * h, Y.data(), F[i].data());
               }
-            statistics.rhs_evals += s;
+            statistics.rhs_evals += S;
             // R_i = f_i - sum_j Ainv_ij Z_j / h.
-            for (int i = 0; i < s; ++i)
+            for (int i = 0; i < S; ++i)
               for (int r = 0; r < n; ++r)
                 {
                   double acc = 0.0;
-                  for (int j = 0; j < s; ++j)
-                    acc += tab.A_inv(i, j) * Z(r, j);
-                  R[r][i] = F(r, i) - acc / h;
+                  for (int j = 0; j < S; ++j)
+                    acc += A_inv[i][j] * Z[j][r];
+                  Rr[i][r] = F[i][r] - acc * h_inv;
                 }
-            // W_k = sum_i Vinv_ki R_i, (lambda_k / h - J) W_k = ..., dZ_i = sum_k V_ik W_k.
-            dZ.setZero();
-            for (std::size_t q = 0; q < tab.reps.size(); ++q)
+            // W_k = sum_i Vinv_ki R_i, (lambda_k / h - J) W_k = W_k, dZ_i = sum_k V_ik W_k.
+            {
+              // The real eigenvalue: real arithmetic.
+              double w[NM];
+              for (int r = 0; r < n; ++r)
+                {
+                  double acc = 0.0;
+                  for (int i = 0; i < S; ++i)
+                    acc += V_inv_row[0][i].real() * Rr[i][r];
+                  w[r] = acc;
+                }
+              lu_real.solve(w);
+              for (int i = 0; i < S; ++i)
+                {
+                  const double v = weight[0] * V_col[0][i].real();
+                  for (int r = 0; r < n; ++r)
+                    dZ[i][r] = v * w[r];
+                }
+            }
+            for (int q = 1; q < R; ++q)
               {
-                const int k = tab.reps[q];
+                cplx w[NM];
                 for (int r = 0; r < n; ++r)
                   {
-                    cplx acc = 0.0;
-                    for (int i = 0; i < s; ++i)
-                      acc += tab.V_inv(k, i) * R[r][i];
-                    W[k][r] = acc;
+                    double re = 0.0, im = 0.0;
+                    for (int i = 0; i < S; ++i)
+                      {
+                        re += V_inv_row[q][i].real() * Rr[i][r];
+                        im += V_inv_row[q][i].imag() * Rr[i][r];
+                      }
+                    w[r] = cplx(re, im);
                   }
-                lu[k].solve(W[k]);
-                const double wgt = tab.rep_weight[q];
-                for (int i = 0; i < s; ++i)
+                lu_cplx[q].solve(w);
+                for (int i = 0; i < S; ++i)
                   {
-                    const cplx v = tab.V(i, k);
+                    const double vr = weight[q] * V_col[q][i].real(),
+                                 vi = weight[q] * V_col[q][i].imag();
                     for (int r = 0; r < n; ++r)
-                      dZ(r, i) += wgt * (v.real() * W[k][r].real() - v.imag() * W[k][r].imag());
+                      dZ[i][r] += vr * w[r].real() - vi * w[r].imag();
                   }
               }
-            Z += dZ;
-            if (!Z.allFinite())
+            bool finite = true;
+            for (int i = 0; i < S; ++i)
+              for (int r = 0; r < n; ++r)
+                {
+                  Z[i][r] += dZ[i][r];
+                  finite = finite && std::isfinite(Z[i][r]);
+                }
+            if (!finite)
               return false;
-            const double dn = stage_norm(Z, y, dZ);
+            const double dn = stage_norm(y, dZ);
             if (it == 0)
               {
                 // The contraction of the last step stands in for the first iteration's.
@@ -516,7 +630,10 @@ namespace hertzgear::dynamics
                 if (eta_newton * dn <= kappa)
                   return true;
                 // Not converging within the remaining iterations at this rate.
-                if (eta_newton * dn * std::pow(theta, max_newton - 1 - it) > kappa * 1e3)
+                double theta_rest = 1.0;
+                for (int k = it + 1; k < max_newton; ++k)
+                  theta_rest *= theta;
+                if (eta_newton * dn * theta_rest > kappa * 1e3)
                   return false;
               }
             if (dn == 0.0)
@@ -527,64 +644,86 @@ namespace hertzgear::dynamics
       }
 
       // err = scale (lambda_real / h - J)^-1 raw.
-      void filter(const Vec &raw, const double scale, Vec &err) const
+      void filter(const V &raw, const double scale, V &err) const
       {
-        cplx w[n_max];
+        const int n = dim();
+        double    w[NM];
         for (int r = 0; r < n; ++r)
           w[r] = raw[r];
-        lu[tab.real_index].solve(w);
+        lu_real.solve(w);
         for (int r = 0; r < n; ++r)
-          err[r] = scale * w[r].real();
+          err[r] = scale * w[r];
+      }
+
+      // raw = g0 h f + sum_i e_i Z_i.
+      V raw_estimate(const V &f, const double h) const
+      {
+        const int n = dim();
+        V         raw{};
+        for (int r = 0; r < n; ++r)
+          {
+            double acc = g0 * h * f[r];
+            for (int i = 0; i < S; ++i)
+              acc += e[i] * Z[i][r];
+            raw[r] = acc;
+          }
+        return raw;
       }
 
       // Filtered error estimate of the step just solved, in the transformed norm.
-      double estimate(const double t, const Vec &y, const double h, const bool refine)
+      double estimate(const double t, const V &y, const double h, const bool refine)
       {
-        const int s   = tab.s;
-        Vec       raw = (tab.g0 * h) * f0 + Z * tab.e;
-        const int kr  = tab.real_index;
-        const double scale = tab.lambda[kr].real() / h; // (I - h g0 J)^-1 = scale (scale - J)^-1
-        Vec err(n);
-        filter(raw, scale, err);
-        const Vec y1 = y + Z.col(s - 1);
-        double    en = error_norm(err, y, y1, rtol_est, atol_fac);
+        const int    n     = dim();
+        const double scale = lambda[0].real() / h; // (I - h g0 J)^-1 = scale (scale - J)^-1
+        V            err{};
+        filter(raw_estimate(f0, h), scale, err);
+        V y1{};
+        for (int r = 0; r < n; ++r)
+          y1[r] = y[r] + Z[S - 1][r];
+        double en = error_norm(err, y, y1, rtol_est, atol_fac);
         if (en > 1.0 && refine)
           {
             // Hairer & Wanner IV.8 (8.21): one more filter with f at y0 + err.
-            Vec yp = y + err, fp(n);
+            V yp{}, fp{};
+            for (int r = 0; r < n; ++r)
+              yp[r] = y[r] + err[r];
             sys->rhs(t, yp.data(), fp.data());
             ++statistics.rhs_evals;
-            raw = (tab.g0 * h) * fp + Z * tab.e;
-            filter(raw, scale, err);
-            en  = error_norm(err, y, y1, rtol_est, atol_fac);
+            filter(raw_estimate(fp, h), scale, err);
+            en = error_norm(err, y, y1, rtol_est, atol_fac);
           }
         return en;
       }
 
+      void set_next(const V &y)
+      {
+        for (int r = 0; r < dim(); ++r)
+          y_next[r] = y[r] + Z[S - 1][r];
+      }
+
       // Takes one accepted step from (t, y) of at most h_try; the result is in y_next and the
       // step actually taken is returned (shorter than h_try when an event was located).
-      double step(const double t, const Vec &y, double h_try, const std::string &remedy)
+      double step(const double t, const V &y, double h_try, const std::string &remedy)
       {
         if (have_predictor)
           linearise(t, y, t + 0.5 * h_try, dense(y_prev, Z_prev, 1.0 + 0.5 * h_try / h_prev));
         else
           linearise(t, y, t, y);
-        const double H_in       = H;
-        int          rejections = 0;
+        const double H_in         = H;
+        int          rejections   = 0;
         bool         was_rejected = false;
-        const int    s          = tab.s;
         for (;;)
           {
             if (solve(t, y, h_try))
               {
                 const double en = estimate(t, y, h_try, was_rejected || first_step);
                 const double fac =
-                  std::clamp(0.9 * std::pow(std::max(en, 1e-10), -1.0 / (s + 1.0)), 0.2, 6.0);
+                  std::clamp(0.9 * std::pow(std::max(en, 1e-10), -1.0 / (S + 1.0)), 0.2, 6.0);
                 if (en <= 1.0)
                   {
                     first_step = false;
                     ++statistics.steps;
-                    y_next = y + Z.col(s - 1);
+                    set_next(y);
                     double taken = h_try;
                     if (n_roots)
                       taken = locate_event(t, y, h_try);
@@ -641,7 +780,7 @@ namespace hertzgear::dynamics
       // After an accepted step of size h (result in y_next, stages in Z), find the first root
       // function that changed its sign. If one did, the step is redone up to just past the
       // root, the system handles the event there, and the step to the root is returned.
-      double locate_event(const double t, const Vec &y, const double h)
+      double locate_event(const double t, const V &y, const double h)
       {
         event_now = false;
         sys->roots(t + h, y_next.data(), g_new.data());
@@ -675,7 +814,7 @@ namespace hertzgear::dynamics
                     sp = std::min(sp, a + (b - a) * (w_lo * g_lo[r]) / (w_lo * g_lo[r] - w_hi * g_hi[r]));
                 }
             sp = std::clamp(sp, a + 0.5 * s_tol, b - 0.5 * s_tol);
-            const Vec u = dense(y, Zs, sp);
+            const V u = dense(y, Zs, sp);
             sys->roots(t + sp * h, u.data(), g_mid.data());
             ++statistics.root_evals;
             bool left = false;
@@ -705,7 +844,7 @@ namespace hertzgear::dynamics
           {
             if (solve(t, y, h_root))
               {
-                y_next = y + Z.col(tab.s - 1);
+                set_next(y);
                 sys->roots(t + h_root, y_next.data(), g_hi.data());
                 ++statistics.root_evals;
                 bool confirmed = false;
@@ -749,25 +888,102 @@ namespace hertzgear::dynamics
 
       static constexpr int max_newton = 10;
 
-      IntegratorSettings settings;
-      Tableau            tab;
-      double             rtol_est = 0.0, atol_fac = 1.0; // transformed tolerance of the estimate
-      OdeSystem         *sys     = nullptr;
-      int                n       = 0;
-      unsigned           n_roots = 0;
-      Vec                atol, f0, y_next, y_prev;
-      Mat                J;
-      Stages             Z, Z_prev;
-      std::array<SmallComplexLU, s_max> lu;
-      bool               lu_valid = false;
-      double             h_lu = 0.0, eta_newton = 1.0;
-      bool               have_predictor = false, first_step = true, event_now = false,
-                         unconfirmed_last = false;
-      double             h_prev = 0.0;
-      std::vector<double> g_start, g_new, g_mid; // root functions at the step's start, end, inside
-      std::vector<int>    sign_old;
-      std::vector<int>    directions;
-      double              H = 0.0; // proposed next step
+      const IntegratorSettings &settings;
+      IntegratorStats          &statistics;
+      int                       n_rt;
+      // The tableau, in the order the Newton solve uses it (eigenvalue 0 is the real one).
+      double               c[S], e[S], A_inv[S][S], lagrange_weight[S], g0 = 0.0;
+      cplx                 lambda[R], V_col[R][S], V_inv_row[R][S];
+      double               weight[R];
+      double               rtol_est = 0.0, atol_fac = 1.0; // transformed tolerance of the estimate
+      OdeSystem           *sys      = nullptr;
+      unsigned             n_roots  = 0;
+      V                    atol{}, f0{}, y_next{}, y_prev{};
+      double               J[NM][NM] = {};
+      Stages               Z{}, Z_prev{};
+      SmallLU<double, N>   lu_real;
+      SmallLU<cplx, N>     lu_cplx[R];
+      bool                 lu_valid = false;
+      double               h_lu = 0.0, eta_newton = 1.0;
+      bool                 have_predictor = false, first_step = true, event_now = false,
+                           unconfirmed_last = false;
+      double               h_prev = 0.0;
+      std::vector<double>  g_start, g_new, g_mid; // root functions at the step's start, end, inside
+      std::vector<int>     sign_old;
+      std::vector<int>     directions;
+      double               H = 0.0; // proposed next step
+    };
+
+    template <int S>
+    std::unique_ptr<RadauCoreBase> make_core(const IntegratorSettings &st, const Tableau &tab,
+                                             IntegratorStats &stats, const int n)
+    {
+      if (n == 2)
+        return std::make_unique<RadauCore<2, S>>(st, tab, stats, n);
+      if (n == 3)
+        return std::make_unique<RadauCore<3, S>>(st, tab, stats, n);
+      return std::make_unique<RadauCore<0, S>>(st, tab, stats, n);
+    }
+
+    class RadauIIA : public Integrator
+    {
+    public:
+      explicit RadauIIA(const IntegratorSettings &st)
+        : settings(st)
+        , tab(make_tableau(st.stages > 0 ? st.stages : default_stages(st.relative_tolerance)))
+      {
+        statistics.name = "radau-iia";
+      }
+
+      // Stages by tolerance: the cheapest order that takes steps of a few hundredths of a mesh
+      // period (measured in docs/accuracy-dynamics.md).
+      static int default_stages(const double rtol)
+      {
+        if (rtol >= 1e-5)
+          return 3;
+        if (rtol >= 1e-10)
+          return 5;
+        return 7;
+      }
+
+      void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
+                     const double output_interval, const long n_outputs,
+                     const Observer &observer) override
+      {
+        const auto start = std::chrono::steady_clock::now();
+        const int  n     = int(system.n_states());
+        HG_REQUIRE_INPUT(n >= 1 && n <= n_max, "the radau-iia integrator handles up to ", n_max,
+                         " states, the system has ", n);
+        // The core keeps the step size and Newton rate from one call to the next.
+        if (!core || n != core_n)
+          {
+            switch (tab.s)
+              {
+                case 3:
+                  core = make_core<3>(settings, tab, statistics, n);
+                  break;
+                case 5:
+                  core = make_core<5>(settings, tab, statistics, n);
+                  break;
+                case 7:
+                  core = make_core<7>(settings, tab, statistics, n);
+                  break;
+                default:
+                  core = make_core<9>(settings, tab, statistics, n);
+                  break;
+              }
+            core_n = n;
+          }
+        core->integrate(system, t0, y0, output_interval, n_outputs, observer);
+        statistics.wall_time_s +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      }
+
+    private:
+      IntegratorSettings             settings;
+      Tableau                        tab;
+      std::unique_ptr<RadauCoreBase> core;
+      int                            core_n = 0;
     };
   } // namespace
 

@@ -71,11 +71,18 @@ namespace hertzgear::dynamics
 
   double FourierEvaluator::value(const double theta) const
   {
-    double v = mean;
-    if (a.empty())
-      return v;
-    const double c1 = std::cos(theta), s1 = std::sin(theta);
-    double       cj = c1, sj = s1;
+    return a.empty() ? mean : value(std::cos(theta), std::sin(theta));
+  }
+
+  double FourierEvaluator::derivative(const double theta) const
+  {
+    return a.empty() ? 0.0 : derivative(std::cos(theta), std::sin(theta));
+  }
+
+  double FourierEvaluator::value(const double c1, const double s1) const
+  {
+    double v  = mean;
+    double cj = c1, sj = s1;
     for (std::size_t j = 0; j < a.size(); ++j)
       {
         v += a[j] * cj + b[j] * sj;
@@ -86,13 +93,10 @@ namespace hertzgear::dynamics
     return v;
   }
 
-  double FourierEvaluator::derivative(const double theta) const
+  double FourierEvaluator::derivative(const double c1, const double s1) const
   {
-    if (a.empty())
-      return 0.0;
-    double       d  = 0.0;
-    const double c1 = std::cos(theta), s1 = std::sin(theta);
-    double       cj = c1, sj = s1;
+    double d  = 0.0;
+    double cj = c1, sj = s1;
     for (std::size_t j = 0; j < a.size(); ++j)
       {
         d += double(j + 1) * (b[j] * cj - a[j] * sj);

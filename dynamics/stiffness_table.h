@@ -36,6 +36,10 @@ namespace hertzgear::dynamics
     explicit FourierEvaluator(const FourierSeries &series);
     double value(double theta) const;
     double derivative(double theta) const; // d value / d theta
+    // The same from cos(theta) and sin(theta), for several series at one angle.
+    double value(double cos_theta, double sin_theta) const;
+    double derivative(double cos_theta, double sin_theta) const;
+    bool   constant() const { return a.empty(); }
 
   private:
     double              mean = 0.0;
