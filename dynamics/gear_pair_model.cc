@@ -176,12 +176,12 @@ namespace hertzgear::dynamics
     return b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
   }
 
-  const GearPairModel::Coefficients &GearPairModel::coefficients(const double t) const
+  GearPairModel::Coefficients GearPairModel::coefficients(const double t) const
   {
     // Direct-mapped on the bits of t: one comparison; a collision only costs a recomputation.
     std::uint64_t bits;
     std::memcpy(&bits, &t, sizeof bits);
-    const unsigned slot = unsigned(((bits ^ (bits >> 32)) * 0x9E3779B97F4A7C15ull) >> 58) % cache_size;
+    const unsigned slot = unsigned(((bits ^ (bits >> 32)) * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits));
     if (cache_t[slot] == t)
       return cache_value[slot];
     Coefficients &r = cache_value[slot];
@@ -240,7 +240,7 @@ namespace hertzgear::dynamics
   GearPairModel::Forces GearPairModel::evaluate(const double t, const double *y) const
   {
     Forces              r;
-    const Coefficients &co = coefficients(t);
+    const Coefficients co = coefficients(t);
     const double p     = y[0] - co.e;
     const double p_dot = y[1] - co.e_rate;
     r.zone = zone_of(p);
@@ -263,10 +263,10 @@ namespace hertzgear::dynamics
           }
         case HertzianLayer::quasi_static:
           {
-            const double kh = k_hertz(t);
+            const double kh = co.kh;
             const double d  = quasi_static_penetration(r.f, k, kh);
             const double d_dot =
-              (k * r.f_dot + k_rest_rate(t) * (r.f - d) - k_hertz_rate(t) * G(d, n_exp)) /
+              (k * r.f_dot + co.k_rate * (r.f - d) - co.kh_rate * G(d, n_exp)) /
               (k + kh * G_prime(d, n_exp));
             r.penetration  = d;
             r.delta_dot    = d_dot;
@@ -278,7 +278,7 @@ namespace hertzgear::dynamics
           }
         case HertzianLayer::dynamic:
           {
-            const double kh = k_hertz(t);
+            const double kh = co.kh;
             if (prm.rigid_structure)
               {
                 r.penetration  = r.f;

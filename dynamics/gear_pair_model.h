@@ -142,11 +142,9 @@ namespace hertzgear::dynamics
     {
       double k = 0, k_rate = 0, kh = 0, kh_rate = 0, e = 0, e_rate = 0;
     };
-    const Coefficients &coefficients(double t) const;
+    Coefficients coefficients(double t) const;
     double k_rest(double t) const { return coefficients(t).k; }
-    double k_rest_rate(double t) const { return coefficients(t).k_rate; }
     double k_hertz(double t) const { return coefficients(t).kh; }
-    double k_hertz_rate(double t) const { return coefficients(t).kh_rate; }
     // delta from k (f - delta) = k_h G(delta) by Newton safeguarded with bisection.
     double quasi_static_penetration(double f, double k, double kh) const;
 
@@ -159,7 +157,7 @@ namespace hertzgear::dynamics
     double             mu               = 0.0; // current contact damping coefficient
     double             x_scale          = 0.0;
     bool               need_rates       = false; // k' and k_h' (quasi-static layer only)
-    static constexpr unsigned cache_size = 64;
+    static constexpr unsigned cache_bits = 6, cache_size = 1u << cache_bits;
     mutable std::array<double, cache_size>       cache_t;
     mutable std::array<Coefficients, cache_size> cache_value;
   };

@@ -69,16 +69,6 @@ namespace hertzgear::dynamics
       }
   }
 
-  double FourierEvaluator::value(const double theta) const
-  {
-    return a.empty() ? mean : value(std::cos(theta), std::sin(theta));
-  }
-
-  double FourierEvaluator::derivative(const double theta) const
-  {
-    return a.empty() ? 0.0 : derivative(std::cos(theta), std::sin(theta));
-  }
-
   double FourierEvaluator::value(const double c1, const double s1) const
   {
     double v  = mean;

@@ -34,9 +34,8 @@ namespace hertzgear::dynamics
   public:
     FourierEvaluator() = default;
     explicit FourierEvaluator(const FourierSeries &series);
-    double value(double theta) const;
-    double derivative(double theta) const; // d value / d theta
-    // The same from cos(theta) and sin(theta), for several series at one angle.
+    // Value and d value / d theta at the angle theta given by cos(theta) and sin(theta), so that
+    // several series at one angle share them.
     double value(double cos_theta, double sin_theta) const;
     double derivative(double cos_theta, double sin_theta) const;
     bool   constant() const { return a.empty(); }
