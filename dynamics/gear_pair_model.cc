@@ -134,7 +134,8 @@ namespace hertzgear::dynamics
 
     n_exp           = prm.stiffness.hertz_exponent;
     need_rates      = prm.effects.hertzian_layer == HertzianLayer::quasi_static;
-    cache_t.fill(std::numeric_limits<double>::quiet_NaN()); // no t matches
+    cache_phase.assign(cache_size, ~std::uint64_t(0));
+    cache_value.resize(cache_size);
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
     if (prm.rigid_structure)
@@ -171,6 +172,13 @@ namespace hertzgear::dynamics
 
   double GearPairModel::mesh_period() const { return 2.0 * M_PI / prm.mesh_frequency_rad_per_s; }
 
+  double GearPairModel::forcing_period() const
+  {
+    const bool varies = !(k_rest_series.constant() && k_hertz_series.constant()) ||
+                        (prm.effects.ste_excitation && !ste_series.constant());
+    return varies ? mesh_period() : 0.0;
+  }
+
   int GearPairModel::zone_of(const double p) const
   {
     return b_c > 0.0 ? (p >= b_c ? 1 : (p <= -b_c ? -1 : 0)) : int(sign(p));
@@ -178,27 +186,41 @@ namespace hertzgear::dynamics
 
   GearPairModel::Coefficients GearPairModel::coefficients(const double t) const
   {
-    // Direct-mapped on the bits of t: one comparison; a collision only costs a recomputation.
-    std::uint64_t bits;
-    std::memcpy(&bits, &t, sizeof bits);
-    const unsigned slot = unsigned(((bits ^ (bits >> 32)) * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits));
-    if (cache_t[slot] == t)
+    // The mesh phase in periods, rounded to q 2^-36 (1.5e-11 of a period, a time shift far below
+    // any tolerance: 3e-14 s at 2000 rpm on 20 teeth): the coefficients are functions of q, which
+    // repeats exactly from period to period where t + T rounds differently from t.
+    const double   w      = prm.mesh_frequency_rad_per_s;
+    const double   cycles = t * (w / (2.0 * M_PI));
+    const double   frac   = cycles - std::floor(cycles);
+    constexpr auto one    = std::uint64_t(1) << phase_bits;
+    const std::uint64_t q = std::uint64_t(frac * double(one) + 0.5) & (one - 1);
+    const unsigned slot   = unsigned((q * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits));
+    if (cache_phase[slot] == q)
       return cache_value[slot];
-    Coefficients &r = cache_value[slot];
-    cache_t[slot]       = t;
-    const double w      = prm.mesh_frequency_rad_per_s;
-    double       c1 = 1.0, s1 = 0.0;
+    Coefficients &r   = cache_value[slot];
+    cache_phase[slot] = q;
+    double c1 = 1.0, s1 = 0.0;
     if (!(k_rest_series.constant() && k_hertz_series.constant() && ste_series.constant()))
       {
-        c1 = std::cos(w * t);
-        s1 = std::sin(w * t);
+        const double theta = 2.0 * M_PI * std::ldexp(double(q), -phase_bits);
+        c1                 = std::cos(theta);
+        s1                 = std::sin(theta);
       }
-    r.k  = k_rest_series.value(c1, s1);
-    r.kh = k_hertz_series.value(c1, s1);
-    r.k_rate  = need_rates ? w * k_rest_series.derivative(c1, s1) : 0.0;
-    r.kh_rate = need_rates ? w * k_hertz_series.derivative(c1, s1) : 0.0;
-    r.e       = prm.effects.ste_excitation ? ste_series.value(c1, s1) : 0.0;
-    r.e_rate  = prm.effects.ste_excitation ? w * ste_series.derivative(c1, s1) : 0.0;
+    double dk = 0.0, dkh = 0.0, de = 0.0;
+    if (need_rates)
+      {
+        r.k  = k_rest_series.value(c1, s1, dk);
+        r.kh = k_hertz_series.value(c1, s1, dkh);
+      }
+    else
+      {
+        r.k  = k_rest_series.value(c1, s1);
+        r.kh = k_hertz_series.value(c1, s1);
+      }
+    r.k_rate  = w * dk;
+    r.kh_rate = w * dkh;
+    r.e       = prm.effects.ste_excitation ? ste_series.value(c1, s1, de) : 0.0;
+    r.e_rate  = w * de;
     return r;
   }
 

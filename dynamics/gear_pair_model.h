@@ -8,6 +8,7 @@
 #include "dynamics/stiffness_table.h"
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,8 @@ namespace hertzgear::dynamics
     void     rhs(double t, const double *y, double *y_dot) override;
     bool     has_jacobian() const override;
     void     jacobian(double t, const double *y, double *jac) const override;
+    // The mesh period when a stiffness or the STE varies in time, else 0 (autonomous).
+    double   forcing_period() const override;
     unsigned n_roots() const override { return n_root_functions; }
     void     roots(double t, const double *y, double *g) const override;
     bool     handle_event(double t, double *y, const int *directions) override;
@@ -135,9 +138,10 @@ namespace hertzgear::dynamics
     // Backlash zone of p = x - e: +1 forward contact, -1 back side, 0 in the backlash.
     int    zone_of(double p) const;
     // The coefficients that depend on time only: one cos/sin pair of the mesh angle serves every
-    // series. Recent ones are kept by t, since an implicit integrator evaluates the right-hand
-    // side at the same stage times in every Newton iteration (which is also why one model must
-    // not be shared between threads).
+    // series. They are kept by mesh phase, since an implicit integrator evaluates the
+    // right-hand side at the same stage times in every Newton iteration, and a periodic motion
+    // at the same phases in every period (which is also why one model must not be shared
+    // between threads).
     struct Coefficients
     {
       double k = 0, k_rate = 0, kh = 0, kh_rate = 0, e = 0, e_rate = 0;
@@ -157,8 +161,12 @@ namespace hertzgear::dynamics
     double             mu               = 0.0; // current contact damping coefficient
     double             x_scale          = 0.0;
     bool               need_rates       = false; // k' and k_h' (quasi-static layer only)
-    static constexpr unsigned cache_bits = 6, cache_size = 1u << cache_bits;
-    mutable std::array<double, cache_size>       cache_t;
-    mutable std::array<Coefficients, cache_size> cache_value;
+    // The store of coefficients, direct-mapped on the mesh phase rounded to 2^-phase_bits of a
+    // period (its key; all ones: empty). It holds several periods' worth of stage phases, so
+    // that a periodic motion, whose steps repeat every period, finds them again.
+    static constexpr int      phase_bits = 36;
+    static constexpr unsigned cache_bits = 12, cache_size = 1u << cache_bits;
+    mutable std::vector<std::uint64_t> cache_phase;
+    mutable std::vector<Coefficients>  cache_value;
   };
 } // namespace hertzgear::dynamics

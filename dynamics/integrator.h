@@ -38,6 +38,9 @@ namespace hertzgear::dynamics
     // (the mesh mode with zeta ~ 0.015); stability limit detection lowers the order there.
     bool           stability_limit_detection = true;
     int            stages                = 0; // radau-iia: 3, 5, 7 or 9; 0 = by the tolerance
+    // radau-iia: Newton starting values from the steps one forcing period earlier when they are
+    // nearer the solution than the extrapolated last step (a periodic steady state).
+    bool           periodic_start        = true;
   };
 
   struct IntegratorStats

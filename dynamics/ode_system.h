@@ -20,6 +20,10 @@ namespace hertzgear::dynamics
     virtual bool has_jacobian() const { return false; }
     virtual void jacobian(double /*t*/, const double * /*y*/, double * /*jac*/) const {}
 
+    // The period of f's explicit dependence on t (0: none, or not periodic). Integrators may use
+    // it for starting values: a periodic steady state repeats itself one period later.
+    virtual double forcing_period() const { return 0.0; }
+
     // Root functions g_i(t, y) whose sign changes are events (contact transitions).
     virtual unsigned n_roots() const { return 0; }
     virtual void     roots(double /*t*/, const double * /*y*/, double * /*g*/) const {}

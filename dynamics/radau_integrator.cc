@@ -24,6 +24,14 @@
 // the solution's error, not the estimate's, is of the size the user asks for. The Newton
 // iterations stop on the untransformed tolerance.
 //
+// Starting values: the extrapolated collocation polynomial of the last step, or, for a system
+// with a forcing period T (OdeSystem::forcing_period), the stages of the stored steps over
+// [t - T, t - T + h], whichever came nearer the last solution. In a periodic steady state the
+// latter are within the Newton tolerance, so that a step takes one iteration instead of two or
+// three, and it reuses that step's Jacobian and factorisations (a fresh Jacobian when the
+// iteration then fails). Only the starting values and the Newton matrix change, never the
+// stopping test, so the accuracy is that of the extrapolated start.
+//
 // Output and events: a step never straddles an output time. After every accepted step the root
 // functions are compared with their values at the step's start; a sign change is located on the
 // collocation polynomial (the dense output through y0 and the stages) by the Illinois method, the
@@ -350,6 +358,7 @@ namespace hertzgear::dynamics
         const double rtol = settings.relative_tolerance;
         rtol_est          = 0.1 * std::pow(rtol, (S + 1.0) / (2.0 * S));
         atol_fac          = rtol_est / rtol;
+        en_max_growth     = std::pow(0.9 / 6.0, S + 1.0);
       }
 
       void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
@@ -370,6 +379,12 @@ namespace hertzgear::dynamics
         sign_old.assign(n_roots, 0);
         directions.assign(n_roots, 0);
         have_predictor = false;
+        // The periodic starting values need the history of this very trajectory.
+        const double T = settings.periodic_start ? system.forcing_period() : 0.0;
+        if (T != period || t0 != t_end || &system != history_system)
+          clear_history();
+        period         = T;
+        history_system = &system;
 
         V y{};
         for (int i = 0; i < n; ++i)
@@ -416,6 +431,7 @@ namespace hertzgear::dynamics
           }
         for (int i = 0; i < n; ++i)
           y0[i] = y[i];
+        t_end = t;
       }
 
     private:
@@ -528,16 +544,25 @@ namespace hertzgear::dynamics
             lu_valid = true;
             h_lu     = h;
           }
-        if (have_predictor)
+        solve_ok          = false;
+        have_periodic     = periodic_start(t, h);
+        // The extrapolation is skipped while the periodic values came within the Newton
+        // tolerance's order of the last solution (it could not do better).
+        have_extrapolated = have_predictor && !(have_periodic && use_periodic && periodic_distance < 1.0);
+        if (have_extrapolated)
           {
             // Extrapolate the previous collocation polynomial (Hairer & Wanner's starting values).
             for (int i = 0; i < S; ++i)
               {
                 const V u = dense(y_prev, Z_prev, 1.0 + c[i] * h / h_prev);
                 for (int r = 0; r < n; ++r)
-                  Z[i][r] = u[r] - y[r];
+                  Z_extrapolated[i][r] = u[r] - y[r];
               }
           }
+        if (have_periodic && (use_periodic || !have_extrapolated))
+          Z = Z_periodic;
+        else if (have_extrapolated)
+          Z = Z_extrapolated;
         else
           Z = Stages{};
         Stages       F{}, dZ{};
@@ -618,8 +643,13 @@ namespace hertzgear::dynamics
             if (it == 0)
               {
                 // The contraction of the last step stands in for the first iteration's.
-                if (std::pow(std::max(eta_newton, 1e-16), 0.8) * dn <= kappa)
-                  return true;
+                if (eta_newton != eta_pow_of)
+                  {
+                    eta_pow_of = eta_newton;
+                    eta_pow    = std::pow(std::max(eta_newton, 1e-16), 0.8);
+                  }
+                if (eta_pow * dn <= kappa)
+                  return solve_ok = true;
               }
             else
               {
@@ -628,7 +658,7 @@ namespace hertzgear::dynamics
                   return false;
                 eta_newton = theta / (1.0 - theta);
                 if (eta_newton * dn <= kappa)
-                  return true;
+                  return solve_ok = true;
                 // Not converging within the remaining iterations at this rate.
                 double theta_rest = 1.0;
                 for (int k = it + 1; k < max_newton; ++k)
@@ -637,7 +667,7 @@ namespace hertzgear::dynamics
                   return false;
               }
             if (dn == 0.0)
-              return true;
+              return solve_ok = true;
             dn_old = dn;
           }
         return false;
@@ -695,20 +725,209 @@ namespace hertzgear::dynamics
         return en;
       }
 
+      // Periodic starting values. A periodically forced system settles into a motion that repeats
+      // with the forcing period T (or a multiple); its stages then repeat the stages of one
+      // period earlier, which the extrapolated collocation polynomial of the last step matches
+      // only to its interpolation error. The steps of the last period are kept (a ring of
+      // (t, h, y, Z)); the starting increments are those of the stored solution over
+      // [t - T, t - T + h]. Which of the two starting values the solve takes follows which one
+      // was nearer the solution of the last step, so that transients, period-k and aperiodic
+      // motions keep the extrapolation. Only the starting values change: the Newton iteration
+      // and its stopping test are the same.
+      struct PastStep
+      {
+        double t, h;
+        V      y;
+        Stages Z;
+        double J[NM][NM];
+        double             h_lu; // the step size of the factorisations (0: none)
+        SmallLU<double, N> lu_real;
+        SmallLU<cplx, N>   lu_cplx[R];
+      };
+
+      PastStep &past_at(const std::size_t k) { return past[(past_first + k) & (past.size() - 1)]; }
+
+      void clear_history()
+      {
+        past_first = past_n = 0;
+        use_periodic = have_periodic = false;
+      }
+
+      // Stores the accepted step [t, t + h] (stages in Z) and updates the choice of starting
+      // values from how near each candidate came to the solution.
+      void remember(const double t, const V &y, const double h)
+      {
+        if (period <= 0.0)
+          return;
+        if (have_periodic)
+          {
+            periodic_distance = stage_distance(y, Z_periodic);
+            if (have_extrapolated)
+              use_periodic = periodic_distance < stage_distance(y, Z_extrapolated);
+          }
+        if (past_n == past.size())
+          {
+            if (past.size() >= max_history)
+              {
+                past_first = (past_first + 1) & (past.size() - 1);
+                --past_n;
+              }
+            else
+              {
+                std::vector<PastStep> grown(std::max<std::size_t>(2 * past.size(), 256));
+                for (std::size_t k = 0; k < past_n; ++k)
+                  grown[k] = past_at(k);
+                past.swap(grown);
+                past_first = 0;
+              }
+          }
+        PastStep &p = past_at(past_n++);
+        p.t         = t;
+        p.h         = h;
+        p.y         = y;
+        p.Z         = Z;
+        std::copy(&J[0][0], &J[0][0] + NM * NM, &p.J[0][0]);
+        p.h_lu    = lu_valid ? h_lu : 0.0;
+        p.lu_real = lu_real;
+        for (int q = 1; q < R; ++q)
+          p.lu_cplx[q] = lu_cplx[q];
+      }
+
+      // The step of one period earlier that began at t - T with the same size h, while the
+      // periodic starting values are in use and came near the last solution; else nullptr.
+      const PastStep *periodic_jacobian(const double t, const double h)
+      {
+        if (!(use_periodic && periodic_distance < 1.0) || !prune_history(t))
+          return nullptr;
+        const double    t_back = t - period;
+        const PastStep &p      = past_at(0);
+        if (std::abs(p.t - t_back) <= 1e-9 * h && std::abs(p.h - h) <= 1e-9 * h)
+          return &p;
+        if (past_n > 1 && std::abs(past_at(1).t - t_back) <= 1e-9 * h &&
+            std::abs(past_at(1).h - h) <= 1e-9 * h)
+          return &past_at(1);
+        return nullptr;
+      }
+
+      // Drops the stored steps that end before t - T; false when none is left.
+      bool prune_history(const double t)
+      {
+        const double t_back = t - period;
+        while (past_n > 0 && past_at(0).t + past_at(0).h < t_back - 1e-9 * past_at(0).h)
+          {
+            past_first = (past_first + 1) & (past.size() - 1);
+            --past_n;
+          }
+        return past_n > 0;
+      }
+
+      // Weighted distance of starting values from the stages in Z (Newton norm).
+      double stage_distance(const V &y, const Stages &start) const
+      {
+        Stages d;
+        for (int i = 0; i < S; ++i)
+          for (int r = 0; r < dim(); ++r)
+            d[i][r] = start[i][r] - Z[i][r];
+        return stage_norm(y, d);
+      }
+
+      // Z_periodic for a step [t, t + h] from the stored solution over [t - T, t - T + h]; false
+      // when the history does not cover it.
+      bool periodic_start(const double t, const double h)
+      {
+        if (period <= 0.0)
+          return false;
+        const double t_back = t - period;
+        const double slack  = 1e-9 * h;
+        if (!prune_history(t) || past_at(0).t > t_back + slack)
+          return false;
+        std::size_t k = 0;
+        auto at_time = [&](const double tau, V &u) {
+          while (k + 1 < past_n && past_at(k).t + past_at(k).h < tau)
+            ++k;
+          const PastStep &p = past_at(k);
+          if (p.t + p.h < tau - slack || p.t > tau + slack)
+            return false;
+          // At a node (the steps of the last period usually match the coming ones), the stored
+          // stage itself.
+          const double frac = (tau - p.t) / p.h;
+          if (std::abs(frac) < 1e-9)
+            {
+              u = p.y;
+              return true;
+            }
+          for (int j = 0; j < S; ++j)
+            if (std::abs(frac - c[j]) < 1e-9)
+              {
+                for (int r = 0; r < dim(); ++r)
+                  u[r] = p.y[r] + p.Z[j][r];
+                return true;
+              }
+          u = dense(p.y, p.Z, frac);
+          return true;
+        };
+        V u0;
+        if (!at_time(t_back, u0))
+          return false;
+        const int n = dim();
+        for (int i = 0; i < S; ++i)
+          {
+            V u;
+            if (!at_time(t_back + c[i] * h, u))
+              return false;
+            for (int r = 0; r < n; ++r)
+              Z_periodic[i][r] = u[r] - u0[r];
+          }
+        return true;
+      }
+
       void set_next(const V &y)
       {
         for (int r = 0; r < dim(); ++r)
           y_next[r] = y[r] + Z[S - 1][r];
       }
 
+      // x^(-1/(S+1)), the step-size controller's power (without pow for the common orders).
+      static double inverse_root(const double x)
+      {
+        if constexpr (S == 3)
+          return 1.0 / std::sqrt(std::sqrt(x));
+        else if constexpr (S == 5)
+          return 1.0 / std::sqrt(std::cbrt(x));
+        else
+          return std::pow(x, -1.0 / (S + 1.0));
+      }
+
       // Takes one accepted step from (t, y) of at most h_try; the result is in y_next and the
       // step actually taken is returned (shorter than h_try when an event was located).
       double step(const double t, const V &y, double h_try, const std::string &remedy)
       {
-        if (have_predictor)
-          linearise(t, y, t + 0.5 * h_try, dense(y_prev, Z_prev, 1.0 + 0.5 * h_try / h_prev));
+        const auto fresh_jacobian = [&]() {
+          if (have_predictor)
+            linearise(t, y, t + 0.5 * h_try, dense(y_prev, Z_prev, 1.0 + 0.5 * h_try / h_prev));
+          else
+            linearise(t, y, t, y);
+        };
+        bool from_history = false;
+        if (const PastStep *p = periodic_jacobian(t, h_try))
+          {
+            // A periodic motion: the Jacobian of the same step one period earlier, and its
+            // factorisations when they were made for this step size.
+            sys->rhs(t, y.data(), f0.data());
+            ++statistics.rhs_evals;
+            std::copy(&p->J[0][0], &p->J[0][0] + NM * NM, &J[0][0]);
+            lu_valid = std::abs(p->h_lu - h_try) <= 1e-9 * h_try;
+            if (lu_valid)
+              {
+                lu_real = p->lu_real;
+                for (int q = 1; q < R; ++q)
+                  lu_cplx[q] = p->lu_cplx[q];
+                h_lu = h_try;
+              }
+            from_history = true;
+          }
         else
-          linearise(t, y, t, y);
+          fresh_jacobian();
         const double H_in         = H;
         int          rejections   = 0;
         bool         was_rejected = false;
@@ -717,8 +936,12 @@ namespace hertzgear::dynamics
             if (solve(t, y, h_try))
               {
                 const double en = estimate(t, y, h_try, was_rejected || first_step);
+                // 0.9 en^(-1/(S+1)) clamped to [0.2, 6]; the largest factor without the power
+                // when en is below (0.9 / 6)^(S+1).
                 const double fac =
-                  std::clamp(0.9 * std::pow(std::max(en, 1e-10), -1.0 / (S + 1.0)), 0.2, 6.0);
+                  en <= en_max_growth
+                    ? 6.0
+                    : std::clamp(0.9 * inverse_root(std::max(en, 1e-10)), 0.2, 6.0);
                 if (en <= 1.0)
                   {
                     first_step = false;
@@ -727,6 +950,8 @@ namespace hertzgear::dynamics
                     double taken = h_try;
                     if (n_roots)
                       taken = locate_event(t, y, h_try);
+                    if (solve_ok)
+                      remember(t, y, taken);
                     double h_new = h_try * fac;
                     if (was_rejected)
                       h_new = std::min(h_new, h_try);
@@ -746,6 +971,13 @@ namespace hertzgear::dynamics
                     return taken;
                   }
                 h_try *= std::min(fac, 0.9);
+              }
+            else if (from_history)
+              {
+                // The motion is no longer that of one period earlier: a Jacobian of its own, and
+                // the same step again.
+                fresh_jacobian();
+                from_history = false;
               }
             else
               {
@@ -886,7 +1118,14 @@ namespace hertzgear::dynamics
         return h_root;
       }
 
-      static constexpr int max_newton = 10;
+      static constexpr int         max_newton  = 10;
+      // Steps kept for the periodic starting values: a power of 2, at most about 32 MB.
+      static constexpr std::size_t max_history = []() {
+        std::size_t m = 1;
+        while (2 * m * sizeof(PastStep) <= (std::size_t(32) << 20))
+          m *= 2;
+        return m;
+      }();
 
       const IntegratorSettings &settings;
       IntegratorStats          &statistics;
@@ -896,6 +1135,8 @@ namespace hertzgear::dynamics
       cplx                 lambda[R], V_col[R][S], V_inv_row[R][S];
       double               weight[R];
       double               rtol_est = 0.0, atol_fac = 1.0; // transformed tolerance of the estimate
+      double               en_max_growth = 0.0; // error norm below which the step grows 6-fold
+      double               eta_pow = 1.0, eta_pow_of = 1.0; // eta_newton^0.8 and its eta
       OdeSystem           *sys      = nullptr;
       unsigned             n_roots  = 0;
       V                    atol{}, f0{}, y_next{}, y_prev{};
@@ -912,6 +1153,15 @@ namespace hertzgear::dynamics
       std::vector<int>     sign_old;
       std::vector<int>     directions;
       double               H = 0.0; // proposed next step
+      bool                 solve_ok = false; // the last solve converged (Z is its solution)
+      // Periodic starting values (periodic_start): period, history, candidates and choice.
+      double                period = 0.0, t_end = std::numeric_limits<double>::quiet_NaN();
+      const OdeSystem      *history_system = nullptr;
+      std::vector<PastStep> past;
+      std::size_t           past_first = 0, past_n = 0;
+      Stages                Z_periodic{}, Z_extrapolated{};
+      bool                  have_periodic = false, have_extrapolated = false, use_periodic = false;
+      double                periodic_distance = 0.0; // of the periodic values from the last solution
     };
 
     template <int S>

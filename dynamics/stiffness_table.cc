@@ -83,6 +83,22 @@ namespace hertzgear::dynamics
     return v;
   }
 
+  double FourierEvaluator::value(const double c1, const double s1, double &derivative) const
+  {
+    double v = mean, d = 0.0;
+    double cj = c1, sj = s1;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      {
+        v += a[j] * cj + b[j] * sj;
+        d += double(j + 1) * (b[j] * cj - a[j] * sj);
+        const double c_next = cj * c1 - sj * s1;
+        sj                  = sj * c1 + cj * s1;
+        cj                  = c_next;
+      }
+    derivative = d;
+    return v;
+  }
+
   double FourierEvaluator::derivative(const double c1, const double s1) const
   {
     double d  = 0.0;

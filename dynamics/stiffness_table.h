@@ -38,6 +38,8 @@ namespace hertzgear::dynamics
     // several series at one angle share them.
     double value(double cos_theta, double sin_theta) const;
     double derivative(double cos_theta, double sin_theta) const;
+    // Both in one pass over the harmonics: returns the value, `derivative` receives d / d theta.
+    double value(double cos_theta, double sin_theta, double &derivative) const;
     bool   constant() const { return a.empty(); }
 
   private:
