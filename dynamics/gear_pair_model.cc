@@ -133,9 +133,7 @@ namespace hertzgear::dynamics
       ste_series = FourierEvaluator(prm.stiffness.unloaded_ste_m);
 
     n_exp           = prm.stiffness.hertz_exponent;
-    need_rates      = prm.effects.hertzian_layer == HertzianLayer::quasi_static;
-    cache_phase.assign(cache_size, ~std::uint64_t(0));
-    cache_value.resize(cache_size);
+    cache.assign(cache_size, PhaseEntry{});
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
     if (prm.rigid_structure)
@@ -186,41 +184,41 @@ namespace hertzgear::dynamics
 
   GearPairModel::Coefficients GearPairModel::coefficients(const double t) const
   {
-    // The mesh phase in periods, rounded to q 2^-36 (1.5e-11 of a period, a time shift far below
-    // any tolerance: 3e-14 s at 2000 rpm on 20 teeth): the coefficients are functions of q, which
-    // repeats exactly from period to period where t + T rounds differently from t.
+    // The mesh phase in periods, frac in [0, 1), keyed by its rounding to 2^-36 (so that the
+    // stage phases of a periodic motion, which differ from period to period only by the
+    // rounding of t, find their entry again).
     const double   w      = prm.mesh_frequency_rad_per_s;
     const double   cycles = t * (w / (2.0 * M_PI));
     const double   frac   = cycles - std::floor(cycles);
     constexpr auto one    = std::uint64_t(1) << phase_bits;
-    const std::uint64_t q = std::uint64_t(frac * double(one) + 0.5) & (one - 1);
-    const unsigned slot   = unsigned((q * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits));
-    if (cache_phase[slot] == q)
-      return cache_value[slot];
-    Coefficients &r   = cache_value[slot];
-    cache_phase[slot] = q;
-    double c1 = 1.0, s1 = 0.0;
-    if (!(k_rest_series.constant() && k_hertz_series.constant() && ste_series.constant()))
+    const std::uint64_t key = std::uint64_t(frac * double(one) + 0.5) & (one - 1);
+    PhaseEntry &en = cache[unsigned((key * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits))];
+    if (en.key != key)
       {
-        const double theta = 2.0 * M_PI * std::ldexp(double(q), -phase_bits);
-        c1                 = std::cos(theta);
-        s1                 = std::sin(theta);
+        en.key  = key;
+        en.frac = frac;
+        double c1 = 1.0, s1 = 0.0;
+        if (!(k_rest_series.constant() && k_hertz_series.constant() && ste_series.constant()))
+          {
+            c1 = std::cos(2.0 * M_PI * frac);
+            s1 = std::sin(2.0 * M_PI * frac);
+          }
+        k_rest_series.taylor(c1, s1, en.k);
+        k_hertz_series.taylor(c1, s1, en.kh);
+        if (prm.effects.ste_excitation)
+          ste_series.taylor(c1, s1, en.e);
       }
-    double dk = 0.0, dkh = 0.0, de = 0.0;
-    if (need_rates)
-      {
-        r.k  = k_rest_series.value(c1, s1, dk);
-        r.kh = k_hertz_series.value(c1, s1, dkh);
-      }
-    else
-      {
-        r.k  = k_rest_series.value(c1, s1);
-        r.kh = k_hertz_series.value(c1, s1);
-      }
-    r.k_rate  = w * dk;
-    r.kh_rate = w * dkh;
-    r.e       = prm.effects.ste_excitation ? ste_series.value(c1, s1, de) : 0.0;
-    r.e_rate  = w * de;
+    // The angle from the entry's phase (0 when this phase filled it; across 0 = 1 the short way).
+    double d = frac - en.frac;
+    d        = d > 0.5 ? d - 1.0 : (d < -0.5 ? d + 1.0 : d);
+    const double dth = 2.0 * M_PI * d;
+    Coefficients r;
+    r.k       = en.k[0] + en.k[1] * dth;
+    r.kh      = en.kh[0] + en.kh[1] * dth;
+    r.e       = en.e[0] + en.e[1] * dth;
+    r.k_rate  = w * (en.k[1] + en.k[2] * dth);
+    r.kh_rate = w * (en.kh[1] + en.kh[2] * dth);
+    r.e_rate  = w * (en.e[1] + en.e[2] * dth);
     return r;
   }
 

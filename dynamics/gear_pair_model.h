@@ -160,13 +160,20 @@ namespace hertzgear::dynamics
     double             b_c              = 0.0;
     double             mu               = 0.0; // current contact damping coefficient
     double             x_scale          = 0.0;
-    bool               need_rates       = false; // k' and k_h' (quasi-static layer only)
     // The store of coefficients, direct-mapped on the mesh phase rounded to 2^-phase_bits of a
-    // period (its key; all ones: empty). It holds several periods' worth of stage phases, so
-    // that a periodic motion, whose steps repeat every period, finds them again.
+    // period (the key; all ones: empty). An entry keeps each series' value and first two
+    // derivatives at the exact phase that filled it; another phase of the same key (at most
+    // 2^-phase_bits of a period away) is served by the Taylor polynomial, exact to rounding at
+    // that distance. It holds several periods' worth of stage phases, so that a periodic
+    // motion, whose steps repeat every period, finds them again.
+    struct PhaseEntry
+    {
+      std::uint64_t key  = ~std::uint64_t(0);
+      double        frac = 0.0; // phase in periods, [0, 1)
+      double        k[3] = {}, kh[3] = {}, e[3] = {};
+    };
     static constexpr int      phase_bits = 36;
     static constexpr unsigned cache_bits = 12, cache_size = 1u << cache_bits;
-    mutable std::vector<std::uint64_t> cache_phase;
-    mutable std::vector<Coefficients>  cache_value;
+    mutable std::vector<PhaseEntry> cache;
   };
 } // namespace hertzgear::dynamics

@@ -69,48 +69,23 @@ namespace hertzgear::dynamics
       }
   }
 
-  double FourierEvaluator::value(const double c1, const double s1) const
+  void FourierEvaluator::taylor(const double c1, const double s1, double taylor[3]) const
   {
-    double v  = mean;
+    double v = mean, d1 = 0.0, d2 = 0.0;
     double cj = c1, sj = s1;
     for (std::size_t j = 0; j < a.size(); ++j)
       {
-        v += a[j] * cj + b[j] * sj;
+        const double order = double(j + 1), term = a[j] * cj + b[j] * sj;
+        v += term;
+        d1 += order * (b[j] * cj - a[j] * sj);
+        d2 -= order * order * term;
         const double c_next = cj * c1 - sj * s1;
         sj                  = sj * c1 + cj * s1;
         cj                  = c_next;
       }
-    return v;
-  }
-
-  double FourierEvaluator::value(const double c1, const double s1, double &derivative) const
-  {
-    double v = mean, d = 0.0;
-    double cj = c1, sj = s1;
-    for (std::size_t j = 0; j < a.size(); ++j)
-      {
-        v += a[j] * cj + b[j] * sj;
-        d += double(j + 1) * (b[j] * cj - a[j] * sj);
-        const double c_next = cj * c1 - sj * s1;
-        sj                  = sj * c1 + cj * s1;
-        cj                  = c_next;
-      }
-    derivative = d;
-    return v;
-  }
-
-  double FourierEvaluator::derivative(const double c1, const double s1) const
-  {
-    double d  = 0.0;
-    double cj = c1, sj = s1;
-    for (std::size_t j = 0; j < a.size(); ++j)
-      {
-        d += double(j + 1) * (b[j] * cj - a[j] * sj);
-        const double c_next = cj * c1 - sj * s1;
-        sj                  = sj * c1 + cj * s1;
-        cj                  = c_next;
-      }
-    return d;
+    taylor[0] = v;
+    taylor[1] = d1;
+    taylor[2] = d2;
   }
 
   double FourierSeries::amplitude_bound() const

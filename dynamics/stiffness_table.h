@@ -34,13 +34,11 @@ namespace hertzgear::dynamics
   public:
     FourierEvaluator() = default;
     explicit FourierEvaluator(const FourierSeries &series);
-    // Value and d value / d theta at the angle theta given by cos(theta) and sin(theta), so that
-    // several series at one angle share them.
-    double value(double cos_theta, double sin_theta) const;
-    double derivative(double cos_theta, double sin_theta) const;
-    // Both in one pass over the harmonics: returns the value, `derivative` receives d / d theta.
-    double value(double cos_theta, double sin_theta, double &derivative) const;
-    bool   constant() const { return a.empty(); }
+    // Value, d / d theta and d^2 / d theta^2 at the angle theta given by cos(theta) and
+    // sin(theta) (so that several series at one angle share them), in one pass over the
+    // harmonics, into taylor[0..2].
+    void taylor(double cos_theta, double sin_theta, double taylor[3]) const;
+    bool constant() const { return a.empty(); }
 
   private:
     double              mean = 0.0;

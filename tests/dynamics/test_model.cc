@@ -15,9 +15,10 @@ using namespace hertzgear::dynamics::testing;
 // Requirement: a Fourier fit by FFTW of S uniform samples of a series with h <= (S-1)/2 harmonics
 // returns its mean, amplitudes and phases. Tolerance 1e-12 relative: the DFT of exactly
 // representable samples is exact up to round-off (a few ulp times log2 S).
-// Requirement: the cos/sin-form evaluator the model uses at every stage returns the series'
-// value and derivative. 20 harmonics of decreasing amplitude at 50 phases: the recurrence's
-// rounding grows like j eps, so 1e-13 of the amplitude sum bounds the difference.
+// Requirement: the cos/sin-form evaluator the model uses at every new phase returns the series'
+// value and its first two derivatives. 20 harmonics of decreasing amplitude at 50 phases: the
+// recurrence's rounding grows like j eps, so 1e-13 of the amplitude sum (times the order j and
+// j^2 that the derivatives weigh it with, at most 20 and 400) bounds the difference.
 TEST(StiffnessTable, FourierEvaluatorMatchesTheSeries)
 {
   FourierSeries series{5.0e10, {}, {}};
@@ -32,8 +33,15 @@ TEST(StiffnessTable, FourierEvaluatorMatchesTheSeries)
     {
       const double theta = -20.0 + 0.83 * i;
       const double c = std::cos(theta), s = std::sin(theta);
-      EXPECT_NEAR(fast.value(c, s), series.value(theta), 1e-13 * (series.mean + scale));
-      EXPECT_NEAR(fast.derivative(c, s), series.derivative(theta), 1e-13 * 20 * scale);
+      double taylor[3];
+      fast.taylor(c, s, taylor);
+      double second = 0.0;
+      for (unsigned j = 0; j < series.amplitudes.size(); ++j)
+        second -= (j + 1.0) * (j + 1.0) * series.amplitudes[j] *
+                  std::cos((j + 1) * theta - series.phases_rad[j]);
+      EXPECT_NEAR(taylor[0], series.value(theta), 1e-13 * (series.mean + scale));
+      EXPECT_NEAR(taylor[1], series.derivative(theta), 1e-13 * 20 * scale);
+      EXPECT_NEAR(taylor[2], second, 1e-13 * 400 * scale);
     }
 }
 
