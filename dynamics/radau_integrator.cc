@@ -582,13 +582,14 @@ namespace hertzgear::dynamics
             statistics.rhs_evals += S;
             // R_i = f_i - sum_j Ainv_ij Z_j / h.
             for (int i = 0; i < S; ++i)
-              for (int r = 0; r < n; ++r)
-                {
-                  double acc = 0.0;
-                  for (int j = 0; j < S; ++j)
-                    acc += A_inv[i][j] * Z[j][r];
-                  Rr[i][r] = F[i][r] - acc * h_inv;
-                }
+              {
+                double acc[NM] = {};
+                for (int j = 0; j < S; ++j)
+                  for (int r = 0; r < n; ++r)
+                    acc[r] += A_inv[i][j] * Z[j][r];
+                for (int r = 0; r < n; ++r)
+                  Rr[i][r] = F[i][r] - acc[r] * h_inv;
+              }
             // W_k = sum_i Vinv_ki R_i, (lambda_k / h - J) W_k = W_k, dZ_i = sum_k V_ik W_k.
             {
               // The real eigenvalue: real arithmetic.
@@ -841,6 +842,16 @@ namespace hertzgear::dynamics
         const double slack  = 1e-9 * h;
         if (!prune_history(t) || past_at(0).t > t_back + slack)
           return false;
+        // The common case: a stored step of this size began at t - T; its stages are the values.
+        for (std::size_t j = 0; j < std::min<std::size_t>(past_n, 2); ++j)
+          {
+            const PastStep &p = past_at(j);
+            if (std::abs(p.t - t_back) <= slack && std::abs(p.h - h) <= slack)
+              {
+                Z_periodic = p.Z;
+                return true;
+              }
+          }
         std::size_t k = 0;
         auto at_time = [&](const double tau, V &u) {
           while (k + 1 < past_n && past_at(k).t + past_at(k).h < tau)
