@@ -733,8 +733,9 @@ namespace hertzgear::dynamics
       // (t, h, y, Z)); the starting increments are those of the stored solution over
       // [t - T, t - T + h]. Which of the two starting values the solve takes follows which one
       // was nearer the solution of the last step, so that transients, period-k and aperiodic
-      // motions keep the extrapolation. Only the starting values change: the Newton iteration
-      // and its stopping test are the same.
+      // motions keep the extrapolation. While the periodic values are in use, the stored step
+      // also lends its Jacobian and factorisations (periodic_jacobian). The stopping test of the
+      // Newton iteration is the same either way.
       struct PastStep
       {
         double t, h;
