@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <limits>
 #include <sstream>
 
 namespace hertzgear::dynamics
@@ -134,6 +132,7 @@ namespace hertzgear::dynamics
 
     n_exp           = prm.stiffness.hertz_exponent;
     cache.assign(cache_size, PhaseEntry{});
+    cycles_per_s = prm.mesh_frequency_rad_per_s / (2.0 * M_PI);
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
     if (prm.rigid_structure)
@@ -188,7 +187,7 @@ namespace hertzgear::dynamics
     // stage phases of a periodic motion, which differ from period to period only by the
     // rounding of t, find their entry again).
     const double   w      = prm.mesh_frequency_rad_per_s;
-    const double   cycles = t * (w / (2.0 * M_PI));
+    const double   cycles = t * cycles_per_s;
     // floor(cycles) by truncation (one instruction; std::floor is a library call without SSE4.1).
     double whole = double(std::int64_t(cycles));
     whole        = whole > cycles ? whole - 1.0 : whole;
@@ -262,8 +261,12 @@ namespace hertzgear::dynamics
 
   GearPairModel::Forces GearPairModel::evaluate(const double t, const double *y) const
   {
-    Forces              r;
-    const Coefficients co = coefficients(t);
+    return evaluate(coefficients(t), y);
+  }
+
+  GearPairModel::Forces GearPairModel::evaluate(const Coefficients &co, const double *y) const
+  {
+    Forces       r;
     const double p     = y[0] - co.e;
     const double p_dot = y[1] - co.e_rate;
     r.zone = zone_of(p);
@@ -353,11 +356,12 @@ namespace hertzgear::dynamics
 
   void GearPairModel::jacobian(const double t, const double *y, double *J) const
   {
-    const Forces   r = evaluate(t, y);
-    const unsigned n = n_states();
+    const Coefficients co = coefficients(t);
+    const Forces       r  = evaluate(co, y);
+    const unsigned     n  = n_states();
     std::fill(J, J + n * n, 0.0);
     const double s = (r.zone != 0 || b_c == 0.0) ? 1.0 : 0.0; // df/dx = df'/dx'
-    const double k = k_rest(t), c = prm.damping_N_s_per_m, m = prm.equivalent_mass_kg;
+    const double k = co.k, c = prm.damping_N_s_per_m, m = prm.equivalent_mass_kg;
     double       dF_dx = 0.0, dF_dv = 0.0, dF_dd = 0.0;
     J[0 * n + 1] = 1.0;
     if (prm.effects.hertzian_layer == HertzianLayer::off)
@@ -369,7 +373,7 @@ namespace hertzgear::dynamics
       {
         if (r.layer_closed)
           {
-            const double kh = k_hertz(t);
+            const double kh = co.kh;
             dF_dx = s * (kh * G_prime(r.f, n_exp) + mu * H_prime(r.f, n_exp) * r.f_dot);
             dF_dv = s * mu * H(r.f, n_exp);
           }
@@ -379,7 +383,7 @@ namespace hertzgear::dynamics
         const double d = y[2];
         if (r.layer_closed)
           {
-            const double kh    = k_hertz(t);
+            const double kh    = co.kh;
             const double D     = c + mu * H(d, n_exp);
             const double dN_dd = -k - kh * G_prime(d, n_exp);
             const double ddot_dx = k * s / D, ddot_dv = c * s / D;

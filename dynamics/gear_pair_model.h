@@ -7,7 +7,6 @@
 #include "dynamics/ode_system.h"
 #include "dynamics/stiffness_table.h"
 
-#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -147,6 +146,7 @@ namespace hertzgear::dynamics
       double k = 0, k_rate = 0, kh = 0, kh_rate = 0, e = 0, e_rate = 0;
     };
     Coefficients coefficients(double t) const;
+    Forces       evaluate(const Coefficients &co, const double *y) const;
     double k_rest(double t) const { return coefficients(t).k; }
     double k_hertz(double t) const { return coefficients(t).kh; }
     // delta from k (f - delta) = k_h G(delta) by Newton safeguarded with bisection.
@@ -175,5 +175,6 @@ namespace hertzgear::dynamics
     static constexpr int      phase_bits = 36;
     static constexpr unsigned cache_bits = 12, cache_size = 1u << cache_bits;
     mutable std::vector<PhaseEntry> cache;
+    double                          cycles_per_s = 0.0; // omega_m / 2 pi
   };
 } // namespace hertzgear::dynamics

@@ -795,20 +795,27 @@ namespace hertzgear::dynamics
           p.lu_cplx[q] = lu_cplx[q];
       }
 
-      // The step of one period earlier that began at t - T with the same size h, while the
-      // periodic starting values are in use and came near the last solution; else nullptr.
+      // The step of one period earlier that began at t - T with the same size h (within 1e-9 h),
+      // after prune_history(t); else nullptr. It is the first or second stored step then.
+      const PastStep *aligned_step(const double t, const double h)
+      {
+        const double t_back = t - period;
+        for (std::size_t j = 0; j < std::min<std::size_t>(past_n, 2); ++j)
+          {
+            const PastStep &p = past_at(j);
+            if (std::abs(p.t - t_back) <= 1e-9 * h && std::abs(p.h - h) <= 1e-9 * h)
+              return &p;
+          }
+        return nullptr;
+      }
+
+      // The aligned step of one period earlier, while the periodic starting values are in use
+      // and came near the last solution; else nullptr.
       const PastStep *periodic_jacobian(const double t, const double h)
       {
         if (!(use_periodic && periodic_distance < 1.0) || !prune_history(t))
           return nullptr;
-        const double    t_back = t - period;
-        const PastStep &p      = past_at(0);
-        if (std::abs(p.t - t_back) <= 1e-9 * h && std::abs(p.h - h) <= 1e-9 * h)
-          return &p;
-        if (past_n > 1 && std::abs(past_at(1).t - t_back) <= 1e-9 * h &&
-            std::abs(past_at(1).h - h) <= 1e-9 * h)
-          return &past_at(1);
-        return nullptr;
+        return aligned_step(t, h);
       }
 
       // Drops the stored steps that end before t - T; false when none is left.
@@ -844,14 +851,10 @@ namespace hertzgear::dynamics
         if (!prune_history(t) || past_at(0).t > t_back + slack)
           return false;
         // The common case: a stored step of this size began at t - T; its stages are the values.
-        for (std::size_t j = 0; j < std::min<std::size_t>(past_n, 2); ++j)
+        if (const PastStep *p = aligned_step(t, h))
           {
-            const PastStep &p = past_at(j);
-            if (std::abs(p.t - t_back) <= slack && std::abs(p.h - h) <= slack)
-              {
-                Z_periodic = p.Z;
-                return true;
-              }
+            Z_periodic = p->Z;
+            return true;
           }
         std::size_t k = 0;
         auto at_time = [&](const double tau, V &u) {
