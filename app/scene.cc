@@ -235,6 +235,7 @@ namespace hertzgear
       st.contact_max_iterations      = 100;
       st.tooth_coupling              = "coupled";
       st.reference_depth_mm          = 0.0;
+      st.table_face_nodes            = 0;
       st.linear_solver               = "direct";
       st.linear_solver_tolerance     = 1.0e-10;
       s.enter("Stiffness", "Where the mesh stiffness comes from and how finely it is resolved.");
@@ -281,6 +282,13 @@ namespace hertzgear
             "automatic: 3 x the element size in the contact band at fe_level (0.54 mm for module "
             "3 at level 1). Fix it to compare levels at the same split (hertzgear accuracy "
             "stiffness does); at most half a module.");
+      s.add("table_face_nodes", st.table_face_nodes, Patterns::Integer(0, 1024),
+            "Load nodes of the 3D FE compliance table along the face width, per roll node (count); "
+            "0 = automatic: spaced at most half the reference depth d apart (37 for the paper's "
+            "20 mm face at d = 1.08 mm). The structural compliance read at depth d peaks over a "
+            "width of about d, and the table interpolates it between nodes: 6 nodes made the "
+            "crowned contact 10 % too short and the single-pair stiffness 3 % too soft "
+            "(docs/accuracy-stiffness.md). 1 is refused in 3D; 2D ignores it.");
       s.add("linear_solver", st.linear_solver, Patterns::Selection("direct|amg-cg"),
             "Linear solver of the FE bodies: direct (MUMPS, factorised once and reused) or amg-cg.");
       s.add("linear_solver_tolerance", st.linear_solver_tolerance, Patterns::Double(1.0e-16, 1.0e-2),

@@ -83,6 +83,7 @@ namespace hertzgear
     int                   contact_max_iterations      = 0;
     std::string           tooth_coupling; // coupled | decoupled (study switch)
     double                reference_depth_mm          = 0; // 0 = 3 x band element size
+    int                   table_face_nodes            = 0; // 0 = spacing <= d / 2 (3D)
     std::string           linear_solver; // direct | amg-cg
     double                linear_solver_tolerance = 0;
     FourierScene          fourier;

@@ -35,6 +35,11 @@ namespace hertzgear
     constexpr dealii::types::boundary_id sector_cut_end_id   = 12;
     constexpr unsigned int               drive_flank_id = 100; // + sector tooth index
 
+    // Largest spacing of the 3D compliance table's face nodes, as a multiple of the reference
+    // depth d (Stiffness/table_face_nodes = 0). Measured on the paper's crowned pair
+    // (docs/accuracy-stiffness.md, "Face nodes of the compliance table").
+    constexpr double face_node_spacing_per_depth = 0.5;
+
     // Element size in the contact band [mm] at the scene's level (as the mesher sizes it).
     double band_element_size_mm(const meshing::MeshSettings &m, const double module_mm)
     {
@@ -289,7 +294,7 @@ namespace hertzgear
                      " mm is deeper than half a module (", 0.5 * kin->pinion().module_mm(),
                      " mm): the half-space cannot stand for the local deformation of a tooth "
                      "that deep");
-    table.n_face             = dim == 3 ? 6 : 1;
+    table.n_face             = 1; // 3D: per body, from its face width (below)
 
     on_root([&] { fs::create_directories(mesh_dir); });
     std::unique_ptr<Body> bodies[2];
@@ -330,6 +335,22 @@ namespace hertzgear
         s.n_roll      = std::max(8u, static_cast<unsigned int>(
                                       std::ceil((s.roll_max_mm - s.roll_min_mm) /
                                                 table.reference_depth_mm)) + 1);
+        if (dim == 3)
+          {
+            // Along the face the structural compliance read at depth d peaks over a width of
+            // about d; bilinear interpolation between nodes much farther apart flattens the peak
+            // and so lengthens the structural influence, which concentrates a crowned contact
+            // (6 nodes on the paper's 20 mm face: b 10 % short, p0 8 % high, single-pair
+            // stiffness 3 % low, all growing as d shrinks; docs/accuracy-stiffness.md).
+            const double span = gear.face_width_mm() - 2 * table.patch_radius_mm;
+            HG_REQUIRE_INPUT(scene.stiffness.table_face_nodes != 1,
+                             "Stiffness/table_face_nodes = 1: a 3D compliance table needs at least "
+                             "2 nodes along the face (0 = automatic)");
+            s.n_face = scene.stiffness.table_face_nodes > 0 ?
+                         static_cast<unsigned int>(scene.stiffness.table_face_nodes) :
+                         static_cast<unsigned int>(
+                           std::ceil(span / (face_node_spacing_per_depth * table.reference_depth_mm) - 1e-9)) + 1;
+          }
         const auto t0 = std::chrono::steady_clock::now();
         try
           {
