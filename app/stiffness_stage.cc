@@ -294,6 +294,9 @@ namespace hertzgear
                      " mm is deeper than half a module (", 0.5 * kin->pinion().module_mm(),
                      " mm): the half-space cannot stand for the local deformation of a tooth "
                      "that deep");
+    HG_REQUIRE_INPUT(dim == 2 || scene.stiffness.table_face_nodes != 1,
+                     "Stiffness/table_face_nodes = 1: a 3D compliance table needs at least 2 nodes "
+                     "along the face (0 = automatic)");
     table.n_face             = 1; // 3D: per body, from its face width (below)
 
     on_root([&] { fs::create_directories(mesh_dir); });
@@ -343,9 +346,6 @@ namespace hertzgear
             // (6 nodes on the paper's 20 mm face: b 10 % short, p0 8 % high, single-pair
             // stiffness 3 % low, all growing as d shrinks; docs/accuracy-stiffness.md).
             const double span = gear.face_width_mm() - 2 * table.patch_radius_mm;
-            HG_REQUIRE_INPUT(scene.stiffness.table_face_nodes != 1,
-                             "Stiffness/table_face_nodes = 1: a 3D compliance table needs at least "
-                             "2 nodes along the face (0 = automatic)");
             s.n_face = scene.stiffness.table_face_nodes > 0 ?
                          static_cast<unsigned int>(scene.stiffness.table_face_nodes) :
                          static_cast<unsigned int>(

@@ -285,24 +285,6 @@ TEST(StiffnessCli, AMeshTooCoarseForTheContactBandIsAnInputError)
   EXPECT_FALSE(fs::exists(out / "fields"));
 }
 
-namespace
-{
-  // The row of stiffness.csv at a position, as numbers.
-  std::vector<double> csv_row(const fs::path &csv_file, const int position)
-  {
-    std::istringstream csv(slurp(csv_file));
-    std::string        line;
-    std::getline(csv, line);
-    for (int i = 0; i <= position; ++i)
-      std::getline(csv, line);
-    std::vector<double> v;
-    std::stringstream   ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');)
-      v.push_back(std::stod(cell));
-    return v;
-  }
-} // namespace
-
 TEST(StiffnessCli, TheThreeDimensionalComplianceTableResolvesTheContactAlongTheFace)
 {
   // Requirement: the 3D FE compliance table has enough load nodes along the face that the
@@ -334,7 +316,8 @@ TEST(StiffnessCli, TheThreeDimensionalComplianceTableResolvesTheContactAlongTheF
   const auto json = nlohmann::json::parse(slurp(automatic / "stiffness.json"));
   EXPECT_EQ(json.at("fe").at("bodies").at("pinion").at("table_face_nodes").get<int>(), 18);
 
-  const auto a = csv_row(automatic / "stiffness.csv", 2), d = csv_row(dense / "stiffness.csv", 2);
+  const auto a = csv_rows(slurp(automatic / "stiffness.csv")).at(2);
+  const auto d = csv_rows(slurp(dense / "stiffness.csv")).at(2);
   ASSERT_EQ(a[6], 1.0); // one pair in contact
   ASSERT_EQ(d[6], 1.0);
   std::cout << "    single pair, automatic vs dense face nodes: k_total " << a[3] << " / " << d[3]
