@@ -83,7 +83,9 @@ namespace hertzgear
     int                   contact_max_iterations      = 0;
     std::string           tooth_coupling; // coupled | decoupled (study switch)
     double                reference_depth_mm          = 0; // 0 = 3 x band element size
-    int                   table_face_nodes            = 0; // 0 = spacing <= d / 2 (3D)
+    int                   table_face_nodes            = 0; // 0 = automatic (3D)
+    int                   table_roll_nodes            = 0; // 0 = automatic
+    bool                  table_half_space_split      = true; // 3D: interpolate FE minus half-space
     std::string           linear_solver; // direct | amg-cg
     double                linear_solver_tolerance = 0;
     FourierScene          fourier;

@@ -47,6 +47,8 @@ namespace hertzgear::fem
           face_nodes.push_back(z0 + (b - 2 * settings.patch_radius_mm) * i / (settings.n_face - 1.0));
       }
 
+    HG_REQUIRE_INPUT(!settings.split_half_space || dim == 3,
+                     "flank table: the half-space split is a 3D option");
     using Load    = typename ElasticBody<dim>::PatchLoad;
     using Reading = typename ElasticBody<dim>::PointReading;
     std::vector<Load>    loads;
@@ -61,6 +63,7 @@ namespace hertzgear::fem
             reading.direction = load.direction;
             loads.push_back(load);
             readings.push_back(reading);
+            node_points.push_back({t, roll, z});
           }
     (void)central_tooth; // the body frame already centres the central tooth on +x
     const dealii::FullMatrix<double> c = body.compliance(loads, readings);
@@ -68,6 +71,36 @@ namespace hertzgear::fem
     for (unsigned int i = 0; i < c.m(); ++i)
       for (unsigned int j = 0; j < c.n(); ++j)
         table(i, j) = c(i, j) * scale;
+    interpolated = table;
+    if (settings.split_half_space)
+      {
+        const auto &material = body.get_parameters();
+        kernel = std::make_unique<half_space::PatchLoadKernel>(
+          settings.reference_depth_mm, settings.patch_radius_mm, material.youngs_modulus,
+          material.poisson_ratio);
+        for (Eigen::Index i = 0; i < table.rows(); ++i)
+          for (Eigen::Index j = 0; j < table.cols(); ++j)
+            interpolated(i, j) -= half_space_part(node_points[i], node_points[j]);
+      }
+  }
+
+  template <int dim>
+  double TabulatedFlankCompliance<dim>::flank_distance_mm(const FlankPoint &a,
+                                                          const FlankPoint &b) const
+  {
+    // Involute arc length from the base circle: s^2 / (2 r_b), s the roll distance.
+    const double arc = (a.roll_mm * a.roll_mm - b.roll_mm * b.roll_mm) /
+                       (2.0 * geometry->base_radius_mm());
+    return std::hypot(arc, a.z_mm - b.z_mm);
+  }
+
+  template <int dim>
+  double TabulatedFlankCompliance<dim>::half_space_part(const FlankPoint &reading,
+                                                        const FlankPoint &load) const
+  {
+    if (!kernel || reading.tooth != load.tooth)
+      return 0.0;
+    return (*kernel)(flank_distance_mm(reading, load)) * scale;
   }
 
   template <int dim>
@@ -149,10 +182,10 @@ namespace hertzgear::fem
     // A tooth outside the table is far from the loaded teeth: its coupling is neglected.
     if (!weights(reading, ni, wi) || !weights(load, nj, wj))
       return 0.0;
-    double c = 0;
+    double c = half_space_part(reading, load);
     for (unsigned int a = 0; a < 4; ++a)
       for (unsigned int b = 0; b < 4; ++b)
-        c += wi[a] * wj[b] * table(ni[a], nj[b]);
+        c += wi[a] * wj[b] * interpolated(ni[a], nj[b]);
     return c;
   }
 

@@ -9,12 +9,23 @@
 // above it comes from the half-space, see MeshCycle). One factorisation, one substitution per
 // load case. In 2D (plane strain) the body has unit thickness and the force is spread over the
 // face width b, so the compliance is divided by b.
+//
+// Near its load the reading at depth d is dominated by the half-space response of the patch,
+// which peaks over a width of about d; the rest of the structural compliance (tooth bending and
+// shear, body) varies over the tooth's own length scales. With `split_half_space` (3D) the table
+// keeps only the remainder R(i, j) = C_FE(i, j) - K_d(|x_i - x_j|) between points of one tooth,
+// K_d the half-space displacement at depth d under the same patch (half_space::PatchLoadKernel),
+// interpolates R, and adds K_d back at the exact distance between the reading and the load: the
+// nodes can then be spaced by the smooth remainder, not by d. Distances are measured in the
+// flank's developed surface (involute arc length across the profile, z along the face).
 #include "fem/elastic_body.h"
+#include "fem/half_space.h"
 #include "fem/mesh_cycle.h"
 #include "meshing/gear_geometry.h"
 
 #include <Eigen/Dense>
 
+#include <memory>
 #include <vector>
 
 namespace hertzgear::fem
@@ -28,6 +39,9 @@ namespace hertzgear::fem
     double           roll_max_mm = 0;
     double           reference_depth_mm = 0.5;
     double           patch_radius_mm    = 0.3;
+    // Tabulate the FE compliance minus the half-space response of the patch at depth d, and add
+    // that response back exactly (3D only; see above).
+    bool split_half_space = false;
   };
 
   template <int dim>
@@ -47,8 +61,12 @@ namespace hertzgear::fem
     // modified flank, direction the inward normal, radius the table's patch radius): the load
     // cases of the table, and the loads of the fields written per mesh position.
     typename ElasticBody<dim>::PatchLoad patch_load(const FlankPoint &p) const;
-    // The raw table (reading x load), for tests (Maxwell-Betti reciprocity, convergence).
+    // The raw FE table (reading x load), for tests (Maxwell-Betti reciprocity, convergence).
     const Eigen::MatrixXd &matrix() const { return table; }
+    // The half-space response of a table patch at depth d at this distance [mm/N] (0 without
+    // split_half_space), and the developed distance between two points of one flank [mm].
+    double half_space_part(const FlankPoint &reading, const FlankPoint &load) const;
+    double flank_distance_mm(const FlankPoint &a, const FlankPoint &b) const;
     // Node index of (tooth, roll node, face node).
     unsigned int node(unsigned int tooth_index, unsigned int i_roll, unsigned int i_face) const;
 
@@ -58,6 +76,11 @@ namespace hertzgear::fem
     std::vector<double> roll_nodes, face_nodes;
     double              scale = 1; // 1/b in 2D
     Eigen::MatrixXd     table;
+    // What the interpolation runs on: the table, or with split_half_space the table minus the
+    // half-space part between nodes of one tooth.
+    Eigen::MatrixXd     interpolated;
+    std::unique_ptr<half_space::PatchLoadKernel> kernel; // with split_half_space
+    std::vector<FlankPoint> node_points;
 
     // Interpolation weights of a flank point: up to 4 (node, weight) pairs; false if the tooth
     // is not in the table.

@@ -2,6 +2,8 @@
 
 #include "common/errors.h"
 
+#include <boost/math/quadrature/gauss.hpp>
+
 #include <cmath>
 
 namespace hertzgear
@@ -114,6 +116,56 @@ namespace hertzgear
       const double nu = poisson_ratio;
       return load * (1.0 + nu) / (2.0 * pi * youngs_modulus) *
              (2.0 * (1.0 - nu) / rho + depth * depth / (rho * rho * rho));
+    }
+
+    double patch_load_displacement(const double r, const double depth, const double radius,
+                                   const double youngs_modulus, const double poisson_ratio)
+    {
+      check_material(youngs_modulus, poisson_ratio);
+      HG_REQUIRE_INPUT(radius > 0 && depth >= radius && r >= 0,
+                       "the patch-load displacement needs a radius > 0, a depth >= the radius and "
+                       "r >= 0 (radius ", radius, ", depth ", depth, ", r ", r, ")");
+      using Gauss = boost::math::quadrature::gauss<double, 20>;
+      // p(s) = 3 / (pi a^2) (1 - s^2)^2: the unit force over the disc, in polar coordinates
+      // (s a, theta) with area element a^2 s ds dtheta; the two half disces theta in [0, pi] and
+      // [pi, 2 pi] are mirror images about the line through the reading point.
+      const double nu     = poisson_ratio;
+      const double factor = (1.0 + nu) / (2.0 * pi * youngs_modulus);
+      const auto   ring   = [&](const double s) {
+        const auto kernel = [&](const double theta) {
+          const double x    = r - s * radius * std::cos(theta);
+          const double y    = s * radius * std::sin(theta);
+          const double rho2 = x * x + y * y + depth * depth;
+          const double rho  = std::sqrt(rho2);
+          return 2.0 * (1.0 - nu) / rho + depth * depth / (rho2 * rho);
+        };
+        const double w = (1.0 - s * s) * (1.0 - s * s);
+        return 2.0 * Gauss::integrate(kernel, 0.0, pi) * w * s;
+      };
+      return factor * 3.0 / pi * Gauss::integrate(ring, 0.0, 1.0);
+    }
+
+    PatchLoadKernel::PatchLoadKernel(const double depth, const double radius,
+                                     const double youngs_modulus, const double poisson_ratio)
+      : depth(depth), radius(radius), E(youngs_modulus), nu(poisson_ratio), r_max(64 * radius)
+    {
+      const double        step = radius / 16;
+      std::vector<double> values;
+      for (unsigned int k = 0; k <= 64 * 16; ++k)
+        values.push_back(patch_load_displacement(k * step, depth, radius, E, nu));
+      // Even in r: zero slope at r = 0; the slope at r_max from the quadrature by a central
+      // difference (its own error is of the order of the spline's).
+      const double slope = (patch_load_displacement(r_max + step, depth, radius, E, nu) -
+                            patch_load_displacement(r_max - step, depth, radius, E, nu)) /
+                           (2 * step);
+      spline = boost::math::interpolators::cardinal_cubic_b_spline<double>(
+        values.data(), values.size(), 0.0, step, 0.0, slope);
+    }
+
+    double PatchLoadKernel::operator()(const double r) const
+    {
+      const double a = std::abs(r);
+      return a <= r_max ? spline(a) : patch_load_displacement(a, depth, radius, E, nu);
     }
 
     Eigen::MatrixXd influence_matrix(const std::vector<Cell> &cells, const double depth,

@@ -1,7 +1,8 @@
 #pragma once
 // Boussinesq-Love: normal displacement of an elastic half-space under uniform pressure on a
-// rectangle, on the surface (Love 1929) and at a depth below it, and the influence-coefficient
-// matrices of a contact grid built from them. Plain C++ and Eigen, any consistent units.
+// rectangle, on the surface (Love 1929) and at a depth below it, under a point load and a smooth
+// disc patch, and the influence-coefficient matrices of a contact grid built from them. Plain
+// C++, Eigen and Boost.Math, any consistent units.
 // Equations and sources: docs/theory-contact.md.
 //
 // Frame: the half-space is z >= 0 (z = depth), the load presses along +z, and the displacement
@@ -9,6 +10,7 @@
 #include "fem/hertz.h"
 
 #include <Eigen/Dense>
+#include <boost/math/interpolators/cardinal_cubic_b_spline.hpp>
 
 #include <vector>
 
@@ -58,6 +60,29 @@ namespace hertzgear
     // Boussinesq point load F at the origin, displacement at horizontal distance r and depth d.
     double point_load_displacement(const double r, const double depth, const double load,
                                    const double youngs_modulus, const double poisson_ratio);
+
+    // Displacement at horizontal distance r and depth d under a unit force spread over a disc of
+    // radius a with the pressure 3 / (pi a^2) (1 - s^2)^2, s = distance / a: the patch load of
+    // fem::ElasticBody. Boussinesq's point-load displacement integrated over the disc by
+    // Gauss-Legendre quadrature in radius and angle (20 x 20 points); needs d >= a, where the
+    // integrand is smooth (relative quadrature error below 1e-12, tested against 40 x 40 points).
+    double patch_load_displacement(double r, double depth, double radius, double youngs_modulus,
+                                   double poisson_ratio);
+
+    // patch_load_displacement for one depth, radius and material, tabulated once in r for many
+    // evaluations: a cardinal cubic B-spline through the quadrature at spacing radius / 16 up to
+    // r = 64 radii (interpolation error 3.4e-8 of the value at r = 0 for d = 2a), the quadrature
+    // beyond.
+    class PatchLoadKernel
+    {
+    public:
+      PatchLoadKernel(double depth, double radius, double youngs_modulus, double poisson_ratio);
+      double operator()(double r) const;
+
+    private:
+      double depth, radius, E, nu, r_max;
+      boost::math::interpolators::cardinal_cubic_b_spline<double> spline;
+    };
 
     // C(i, j) = displacement at (centre_i, depth) per unit pressure on cell j, one body.
     // For the surface of two bodies in contact (depth = 0) the compliances add: pass

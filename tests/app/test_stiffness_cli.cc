@@ -81,6 +81,7 @@ TEST(StiffnessCli, LoadsAndSettingsItCannotAnalyseExitTwo)
     {" --set 'Gear pair/Pinion/crowning_um=20'", "crowning"},
     {" --set Mesh/teeth_per_sector=2", "teeth_per_sector"},
     {" --set Operating/torque_Nm=-5", "\"-5\" for Operating/torque_Nm"},
+    {" --set Stiffness/table_roll_nodes=1", "table_roll_nodes = 1"},
   };
   for (const auto &c : cases)
     {
@@ -285,18 +286,21 @@ TEST(StiffnessCli, AMeshTooCoarseForTheContactBandIsAnInputError)
   EXPECT_FALSE(fs::exists(out / "fields"));
 }
 
-TEST(StiffnessCli, TheThreeDimensionalComplianceTableResolvesTheContactAlongTheFace)
+TEST(StiffnessCli, TheThreeDimensionalComplianceTableResolvesTheContact)
 {
-  // Requirement: the 3D FE compliance table has enough load nodes along the face that the
-  // crowned contact does not depend on them. The structural compliance read at depth d peaks over
-  // a width of about d, and the table interpolates it bilinearly between nodes; with 6 nodes on
-  // the paper's 20 mm face (3.8 mm apart) the crowned contact came out 10 % short along the face,
-  // its peak pressure 8 % high and its single-pair stiffness 3 % low, all worsening as d shrank
-  // (docs/accuracy-stiffness.md). The automatic spacing is at most d/2; doubling the nodes shall
-  // change the single-pair stiffness, the semi-axis along the face and the peak pressure by less
-  // than 1 %, the accuracy budget of the default level (measured on the paper's 20 mm face at
-  // level 0: 0.19 %, 0.5 %, 0.4 % from d/2 to d/4). A 10 mm face crowned to the paper's crown
-  // radius (20 um) keeps the test short; its single-pair position is row 3 of 3.
+  // Requirement: the 3D FE compliance table has enough load nodes, along the face and across the
+  // profile, that the crowned contact does not depend on them. The structural compliance read at
+  // depth d peaks over a width of about d; the table interpolates the FE compliance minus the
+  // half-space response of its load patch at depth d and adds that response back exactly
+  // (Stiffness/table_half_space_split, the default). With 6 nodes on the paper's 20 mm face
+  // (3.8 mm apart) and no split the crowned contact came out 10 % short along the face, its peak
+  // pressure 8 % high and its single-pair stiffness 3 % low (docs/accuracy-stiffness.md). The
+  // automatic spacing is at most d along the face and across the profile; doubling the nodes
+  // in either direction shall change the single-pair stiffness, the semi-axes and the peak
+  // pressure by less than 1 %, the accuracy budget of the default level (measured on the paper's
+  // 20 mm face at level 0: at most 0.2 % in k_total and 0.3 % in a, b, p0). A 10 mm face crowned
+  // to the paper's crown radius (20 um) keeps the test short; its single-pair position is row 3
+  // of 3.
   const std::string scene = "stiffness " + scene_path("paper_crowned.prm") +
                             " --set Stiffness/fe_level=0 --set Stiffness/positions_per_cycle=3"
                             " --set Stiffness/harmonics=1 --set Stiffness/reference_depth_mm=1.08"
@@ -305,27 +309,40 @@ TEST(StiffnessCli, TheThreeDimensionalComplianceTableResolvesTheContactAlongTheF
                             " --set \"Gear pair/Pinion/crowning_um=20\""
                             " --set \"Gear pair/Gear/crowning_um=20\""
                             " --set Mesh/face_width_layers=16 --set Output/write_fields=false";
-  const fs::path automatic = fresh_temp_dir("stiffness_face_nodes_auto");
-  const fs::path dense     = fresh_temp_dir("stiffness_face_nodes_dense");
-  const auto     r1        = run_hertzgear(scene + " --out " + automatic.string());
+  const fs::path automatic  = fresh_temp_dir("stiffness_table_nodes_auto");
+  const fs::path dense_face = fresh_temp_dir("stiffness_table_nodes_face");
+  const fs::path dense_roll = fresh_temp_dir("stiffness_table_nodes_roll");
+  const auto     r1         = run_hertzgear(scene + " --out " + automatic.string());
   ASSERT_EQ(r1.exit_code, 0) << r1.err;
-  const auto r2 = run_hertzgear(scene + " --set Stiffness/table_face_nodes=35 --out " + dense.string());
+  const auto r2 = run_hertzgear(scene + " --set Stiffness/table_face_nodes=19 --out " + dense_face.string());
   ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  const auto r3 = run_hertzgear(scene + " --set Stiffness/table_roll_nodes=25 --out " + dense_roll.string());
+  ASSERT_EQ(r3.exit_code, 0) << r3.err;
 
-  // (10 mm - 2 x 0.54 mm patch radius) / (d/2 = 0.54 mm) = 16.5 -> 17 intervals, 18 nodes.
+  // (10 mm - 2 x 0.54 mm patch radius) / (d = 1.08 mm) = 8.3 -> 9 intervals, 10 nodes; across
+  // the profile 25 nodes are at least twice as dense as the automatic ones on both bodies.
   const auto json = nlohmann::json::parse(slurp(automatic / "stiffness.json"));
-  EXPECT_EQ(json.at("fe").at("bodies").at("pinion").at("table_face_nodes").get<int>(), 18);
+  EXPECT_TRUE(json.at("fe").at("table_half_space_split").get<bool>());
+  for (const char *body : {"pinion", "gear"})
+    {
+      EXPECT_EQ(json.at("fe").at("bodies").at(body).at("table_face_nodes").get<int>(), 10) << body;
+      EXPECT_LE(2 * json.at("fe").at("bodies").at(body).at("table_roll_nodes").get<int>() - 1, 25) << body;
+    }
 
   const auto a = csv_rows(slurp(automatic / "stiffness.csv")).at(2);
-  const auto d = csv_rows(slurp(dense / "stiffness.csv")).at(2);
-  ASSERT_EQ(a[6], 1.0); // one pair in contact
-  ASSERT_EQ(d[6], 1.0);
-  std::cout << "    single pair, automatic vs dense face nodes: k_total " << a[3] << " / " << d[3]
-            << " N/m, b " << a[11] << " / " << d[11] << " mm, p0 " << a[12] << " / " << d[12]
-            << " MPa\n";
-  EXPECT_NEAR(a[3], d[3], 0.01 * d[3]) << "k_total";
-  EXPECT_NEAR(a[11], d[11], 0.01 * d[11]) << "contact_b_mm";
-  EXPECT_NEAR(a[12], d[12], 0.01 * d[12]) << "peak_pressure_MPa";
+  for (const auto &dense : {dense_face, dense_roll})
+    {
+      const auto d = csv_rows(slurp(dense / "stiffness.csv")).at(2);
+      ASSERT_EQ(a[6], 1.0); // one pair in contact
+      ASSERT_EQ(d[6], 1.0);
+      std::cout << "    single pair, automatic vs " << dense.filename() << ": k_total " << a[3]
+                << " / " << d[3] << " N/m, a " << a[10] << " / " << d[10] << " mm, b " << a[11]
+                << " / " << d[11] << " mm, p0 " << a[12] << " / " << d[12] << " MPa\n";
+      EXPECT_NEAR(a[3], d[3], 0.01 * d[3]) << "k_total, " << dense;
+      EXPECT_NEAR(a[10], d[10], 0.01 * d[10]) << "contact_a_mm, " << dense;
+      EXPECT_NEAR(a[11], d[11], 0.01 * d[11]) << "contact_b_mm, " << dense;
+      EXPECT_NEAR(a[12], d[12], 0.01 * d[12]) << "peak_pressure_MPa, " << dense;
+    }
 }
 
 TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTable)

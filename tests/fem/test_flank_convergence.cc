@@ -151,3 +151,94 @@ TEST(FlankCompliance, ConvergesWithRefinementAtTheExpectedRate)
       EXPECT_NEAR(extrapolated[0] / extrapolated[1], 1.0, 5e-3);
     }
 }
+
+// Requirement: the half-space split of the 3D compliance table (FlankTableSettings::
+// split_half_space) changes only what lies between the nodes. At the nodes the split table returns
+// the raw FE table (interpolated remainder + the half-space part added back exactly), to
+// round-off; between teeth there is no half-space part; the half-space part is the patch kernel
+// at the developed flank distance, which is symmetric. Coarse 3D pinion sector (level 0, 4 face
+// layers, Q1): what is checked is exact algebra, not accuracy.
+TEST(FlankCompliance, HalfSpaceSplitReturnsTheTableAtItsNodes)
+{
+  const meshing::PairKinematics kin(paper_pair());
+  const auto                   &gear = kin.pinion();
+  meshing::MeshSettings         m;
+  m.dimension         = 3;
+  m.teeth_per_sector  = 3;
+  m.face_width_layers = 4;
+  m.refinement_level  = 0;
+  const auto msh = std::filesystem::temp_directory_path() /
+                   ("hertzgear_flank_split_" + std::to_string(::getpid()) + ".msh");
+  meshing::GearBodyMesher mesher;
+  const int central = mesher.mesh(gear, m, kin.point('A').radius_pinion_mm, msh).central_tooth;
+  dealii::Triangulation<3> tria;
+  fem::read_gmsh_mesh(msh.string(), tria);
+  std::filesystem::remove(msh);
+  for (const auto &face : tria.active_face_iterators())
+    if (face->at_boundary() && (face->boundary_id() == 11 || face->boundary_id() == 12))
+      face->set_boundary_id(10);
+  fem::ElasticBody<3>::Parameters p;
+  p.youngs_modulus      = 206000.0;
+  p.poisson_ratio       = 0.3;
+  p.fe_degree           = 1;
+  p.mapping_degree      = 1;
+  p.clamped_boundary_id = 10;
+  fem::ElasticBody<3> body(tria, p);
+  body.set_load_boundary_ids({static_cast<dealii::types::boundary_id>(100 + central),
+                              static_cast<dealii::types::boundary_id>(100 + central + 1)});
+  body.run();
+
+  const double pitch_roll = std::sqrt(std::pow(gear.reference_radius_mm(), 2) -
+                                      std::pow(gear.base_radius_mm(), 2));
+  fem::FlankTableSettings s;
+  s.teeth              = {0, 1};
+  s.n_roll             = 3;
+  s.n_face             = 3;
+  s.roll_min_mm        = pitch_roll - 2.0;
+  s.roll_max_mm        = pitch_roll + 2.0;
+  s.reference_depth_mm = 2.0;
+  s.patch_radius_mm    = 1.0;
+  s.split_half_space   = true;
+  const fem::TabulatedFlankCompliance<3> table(body, gear, central, s);
+
+  std::vector<fem::FlankPoint> nodes;
+  const double z0 = -0.5 * gear.face_width_mm() + s.patch_radius_mm;
+  const double dz = (gear.face_width_mm() - 2 * s.patch_radius_mm) / (s.n_face - 1.0);
+  for (const int t : s.teeth)
+    for (unsigned int i = 0; i < s.n_roll; ++i)
+      for (unsigned int k = 0; k < s.n_face; ++k)
+        nodes.push_back({t, s.roll_min_mm + (s.roll_max_mm - s.roll_min_mm) * i / (s.n_roll - 1.0),
+                         z0 + k * dz});
+  // Developed distance: along the face it is the z offset; across the profile the involute arc
+  // length (s1^2 - s0^2) / (2 r_b).
+  EXPECT_NEAR(table.flank_distance_mm(nodes[0], nodes[1]), dz, 1e-12);
+  EXPECT_NEAR(table.flank_distance_mm(nodes[0], nodes[3]),
+              (std::pow(nodes[3].roll_mm, 2) - std::pow(nodes[0].roll_mm, 2)) / (2 * gear.base_radius_mm()),
+              1e-12);
+  const auto  &raw  = table.matrix();
+  const double peak = raw.cwiseAbs().maxCoeff();
+  ASSERT_EQ(static_cast<std::size_t>(raw.rows()), nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (std::size_t j = 0; j < nodes.size(); ++j)
+      {
+        const unsigned int ti = i < nodes.size() / 2 ? 0 : 1, tj = j < nodes.size() / 2 ? 0 : 1;
+        ASSERT_EQ(table.node(ti, (i % 9) / 3, i % 3), i);
+        // Round-off: the remainder and the part added back are each of the size of the table.
+        EXPECT_NEAR(table.compliance_mm_per_N(nodes[i], nodes[j]), raw(i, j), 1e-13 * peak)
+          << "nodes " << i << ", " << j;
+        const double part = table.half_space_part(nodes[i], nodes[j]);
+        if (ti != tj)
+          EXPECT_EQ(part, 0.0);
+        else
+          {
+            EXPECT_GT(part, 0.0);
+            EXPECT_DOUBLE_EQ(part, table.half_space_part(nodes[j], nodes[i]));
+            // The kernel is the spline of the quadrature (1e-7 of its peak, test_half_space).
+            EXPECT_NEAR(part,
+                        half_space::patch_load_displacement(table.flank_distance_mm(nodes[i], nodes[j]),
+                                                            s.reference_depth_mm, s.patch_radius_mm,
+                                                            206000.0, 0.3),
+                        1e-7 * table.half_space_part(nodes[i], nodes[i]));
+          }
+      }
+}

@@ -113,10 +113,82 @@ TEST(HalfSpace, DepthClosedFormMatchesIntegratedPointLoads)
   EXPECT_LT(shallow, surface);
 }
 
+namespace
+{
+  // The smooth patch p = 3/(pi a^2) (1 - s^2)^2 integrated in Cartesian coordinates, y over the
+  // chord at x = a sin(phi), then phi: independent of the polar rule under test. The substitution
+  // makes the chord length a cos(phi) analytic (in x it has square-root ends, on which a plain
+  // 40-point rule stops at 1e-10); the weight is a polynomial and the kernel analytic for
+  // depth >= a, so 40 x 40 Gauss-Legendre points reach round-off.
+  double cartesian_patch(const double r, const double depth, const double a)
+  {
+    using Rule = boost::math::quadrature::gauss<double, 40>;
+    return Rule::integrate(
+      [&](const double phi) {
+        const double x = a * std::sin(phi), h = a * std::cos(phi);
+        return h * Rule::integrate(
+                     [&](const double y) {
+                       const double s2 = (x * x + y * y) / (a * a);
+                       const double p  = 3.0 / (pi * a * a) * (1 - s2) * (1 - s2);
+                       return p * half_space::point_load_displacement(std::hypot(r - x, y), depth,
+                                                                      1.0, E, nu);
+                     },
+                     -h, h);
+      },
+      -0.5 * pi, 0.5 * pi);
+  }
+} // namespace
+
+// The displacement at depth d under the smooth unit patch of radius a (the FE table's load) shall
+// equal the point load integrated over the disc by an independent Cartesian rule, below the
+// centre, the rim and outside, for d = 2a (the table's split) and d = a (the smallest allowed).
+// Tolerance 1e-12 relative: both rules converge exponentially and agree to round-off (about 1e-15
+// measured); 1e-12 leaves room for the round-off of 1600-term sums.
+TEST(HalfSpace, PatchLoadMatchesTheIntegratedPointLoad)
+{
+  const double a = 0.5e-3;
+  for (const double depth : {2 * a, a})
+    for (const double r : {0.0, 0.5 * a, a, 3 * a, 20 * a})
+      {
+        const double u   = half_space::patch_load_displacement(r, depth, a, E, nu);
+        const double ref = cartesian_patch(r, depth, a);
+        EXPECT_NEAR(u, ref, 1e-12 * ref) << "depth " << depth << ", r " << r;
+      }
+  // Far from the patch it is the point load, to the patch's second moment: the relative
+  // difference is O((a / r)^2), here (1/100)^2 times a factor of order one.
+  const double far = 100 * a;
+  EXPECT_NEAR(half_space::patch_load_displacement(far, 2 * a, a, E, nu),
+              half_space::point_load_displacement(far, 2 * a, 1.0, E, nu),
+              1e-4 * half_space::point_load_displacement(far, 2 * a, 1.0, E, nu));
+}
+
+// The tabulated kernel shall reproduce the quadrature everywhere, inside the spline's range
+// (r <= 64 a) to 1e-7 of the peak value (cubic spline at spacing a/16 on a function whose scale
+// is the depth 2a: error ~ (1/32)^4 ~ 1e-6 times a constant below one, measured 3.4e-8), and
+// exactly beyond; it is even in r.
+TEST(HalfSpace, PatchLoadKernelReproducesTheQuadrature)
+{
+  const double                     a = 0.54, depth = 1.08, E_mpa = 206000;
+  const half_space::PatchLoadKernel kernel(depth, a, E_mpa, nu);
+  const double peak = half_space::patch_load_displacement(0, depth, a, E_mpa, nu);
+  double       worst = 0;
+  for (unsigned int k = 0; k <= 997; ++k)
+    {
+      const double r = 70 * a * k / 997.0;
+      worst = std::max(worst, std::abs(kernel(r) - half_space::patch_load_displacement(r, depth, a, E_mpa, nu)));
+    }
+  EXPECT_LT(worst, 1e-7 * peak);
+  EXPECT_DOUBLE_EQ(kernel(-1.3), kernel(1.3));
+  EXPECT_EQ(kernel(80 * a), half_space::patch_load_displacement(80 * a, depth, a, E_mpa, nu));
+}
+
 // Bad input shall be refused with an InputError.
 TEST(HalfSpace, RejectsBadInput)
 {
   EXPECT_THROW(half_space::rectangle_displacement_at_depth(0, 0, -1e-3, 1e-4, 1e-4, 1, E, nu), InputError);
   EXPECT_THROW(half_space::rectangle_surface_displacement(0, 0, 0, 1e-4, 1, E, nu), InputError);
   EXPECT_THROW(half_space::ContactGrid::covering(0, -1, 0, 1, 4, 4), InputError);
+  // The patch kernel is smooth only where the reading lies at least a radius deep.
+  EXPECT_THROW(half_space::patch_load_displacement(0, 0.5e-3, 1e-3, E, nu), InputError);
+  EXPECT_THROW(half_space::patch_load_displacement(0, 1e-3, 0, E, nu), InputError);
 }
