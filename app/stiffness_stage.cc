@@ -37,7 +37,7 @@ namespace hertzgear
 
     // Largest spacing of the 3D compliance table's face nodes, as a multiple of the reference
     // depth d (Stiffness/table_face_nodes = 0). Measured on the paper's crowned pair
-    // (docs/accuracy-stiffness.md, "Face nodes of the compliance table").
+    // (docs/accuracy-stiffness.md, "Nodes of the compliance table, and its half-space split").
     constexpr double face_node_spacing_per_depth = 0.5;
     // The same with the half-space split of the table (Stiffness/table_half_space_split), which
     // interpolates only the remainder: at spacing d the single-pair stiffness is within 0.2 % and
@@ -354,7 +354,9 @@ namespace hertzgear
             // about d; bilinear interpolation between nodes much farther apart flattens the peak
             // and so lengthens the structural influence, which concentrates a crowned contact
             // (6 nodes on the paper's 20 mm face: b 10 % short, p0 8 % high, single-pair
-            // stiffness 3 % low, all growing as d shrinks; docs/accuracy-stiffness.md).
+            // stiffness 3 % low, all growing as d shrinks; docs/accuracy-stiffness.md). The
+            // split table takes that peak from the half-space exactly, and its remainder needs
+            // nodes about d apart; the unsplit one needs them d/2 apart.
             const double span    = gear.face_width_mm() - 2 * table.patch_radius_mm;
             const double spacing = (table.split_half_space ? face_node_spacing_per_depth_split :
                                                              face_node_spacing_per_depth) *

@@ -127,7 +127,7 @@ namespace hertzgear
                        "r >= 0 (radius ", radius, ", depth ", depth, ", r ", r, ")");
       using Gauss = boost::math::quadrature::gauss<double, 20>;
       // p(s) = 3 / (pi a^2) (1 - s^2)^2: the unit force over the disc, in polar coordinates
-      // (s a, theta) with area element a^2 s ds dtheta; the two half disces theta in [0, pi] and
+      // (s a, theta) with area element a^2 s ds dtheta; the two half discs theta in [0, pi] and
       // [pi, 2 pi] are mirror images about the line through the reading point.
       const double nu     = poisson_ratio;
       const double factor = (1.0 + nu) / (2.0 * pi * youngs_modulus);
