@@ -98,8 +98,8 @@ namespace hertzgear
 
     // A body whose structural compliance at the reference depth is the half-space's: the
     // displacement at depth d below flank point `reading` of a unit force spread uniformly over
-    // the TCA grid cell centred at flank point `load` (Boussinesq-Love, exact). Surface
-    // distances across the profile are involute arc lengths, (s_1^2 - s_2^2)/(2 r_b).
+    // the TCA grid cell centred at flank point `load` (Boussinesq-Love, exact), at their offset
+    // in the developed flank (fem::developed_offset_mm).
     class HalfSpaceFlankCompliance : public fem::FlankCompliance
     {
     public:
@@ -113,9 +113,8 @@ namespace hertzgear
       {
         if (reading.tooth != load.tooth)
           return 0.0;
-        const double du = (reading.roll_mm * reading.roll_mm - load.roll_mm * load.roll_mm) / (2.0 * r_b);
-        const double dz = reading.z_mm - load.z_mm;
-        return half_space::rectangle_displacement_at_depth(du, dz, depth, hu, hz,
+        const Eigen::Vector2d offset = fem::developed_offset_mm(reading, load, r_b);
+        return half_space::rectangle_displacement_at_depth(offset.x(), offset.y(), depth, hu, hz,
                                                            1.0 / (4.0 * hu * hz),
                                                            material.youngs_modulus_MPa,
                                                            material.poisson_ratio);

@@ -88,10 +88,8 @@ namespace hertzgear::fem
   double TabulatedFlankCompliance<dim>::flank_distance_mm(const FlankPoint &a,
                                                           const FlankPoint &b) const
   {
-    // Involute arc length from the base circle: s^2 / (2 r_b), s the roll distance.
-    const double arc = (a.roll_mm * a.roll_mm - b.roll_mm * b.roll_mm) /
-                       (2.0 * geometry->base_radius_mm());
-    return std::hypot(arc, a.z_mm - b.z_mm);
+    const Eigen::Vector2d offset = developed_offset_mm(a, b, geometry->base_radius_mm());
+    return std::hypot(offset.x(), offset.y());
   }
 
   template <int dim>

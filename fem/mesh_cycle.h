@@ -37,6 +37,16 @@ namespace hertzgear::fem
     double z_mm    = 0;
   };
 
+  // Offset of flank point a from flank point b of one flank in its developed surface [mm]:
+  // across the profile the involute arc length between the roll distances, (s_a^2 - s_b^2) /
+  // (2 r_b) (the arc length from the base circle is s^2 / (2 r_b)); along the face z_a - z_b.
+  inline Eigen::Vector2d developed_offset_mm(const FlankPoint &a, const FlankPoint &b,
+                                             const double base_radius_mm)
+  {
+    return {(a.roll_mm * a.roll_mm - b.roll_mm * b.roll_mm) / (2.0 * base_radius_mm),
+            a.z_mm - b.z_mm};
+  }
+
   // Structural compliance of one body between its flank points: displacement [mm] of `reading`,
   // taken at the reference depth below the flank and along the inward flank normal, per unit
   // normal force [N] pressing on the flank at `load`. Positive: the flank recedes.
