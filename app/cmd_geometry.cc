@@ -2,10 +2,12 @@
 // `hertzgear mesh SCENE --out DIR`: gmsh meshes of both bodies and their quality report.
 #include "app/command.h"
 #include "app/meshing_setup.h"
+#include "app/stiffness_setup.h"
+#include "stiffness/fe_tca.h"
 #include "app/run_directory.h"
 #include "common/errors.h"
 #include "common/progress.h"
-#include "meshing/iso6336.h"
+#include "stiffness/iso6336.h"
 
 #include <nlohmann/json.hpp>
 
@@ -62,7 +64,7 @@ namespace hertzgear
                                             {"radius_pinion_mm", p.radius_pinion_mm},
                                             {"radius_gear_mm", p.radius_gear_mm}};
         }
-      const auto iso = meshing::iso6336_method_b(pair, scene.operating.torque_Nm);
+      const auto iso = stiffness::iso6336_method_b(pair, scene.operating.torque_Nm);
       j["iso6336"] = {{"c_prime_th_N_per_mm_um", iso.c_prime_th_N_per_mm_um},
                       {"c_prime_N_per_mm_um", iso.c_prime_N_per_mm_um},
                       {"c_gamma_alpha_N_per_mm_um", iso.c_gamma_alpha_N_per_mm_um},
@@ -138,7 +140,7 @@ namespace hertzgear
       PhaseTimer  timer;
       const Scene scene = load_scene(ctx.scene_file, ctx.overrides);
       const auto  pair  = make_pair(scene);
-      const auto  settings = mesh_settings(scene, scene.stiffness.fe_dimension);
+      const auto  settings = stiffness::fe_mesh_settings(stiffness_input(scene).fe);
       // The contact band starts at the start of the active profile: point A on the pinion,
       // point E on the gear.
       const double r_active[2] = {pair.point('A').radius_pinion_mm, pair.point('E').radius_gear_mm};

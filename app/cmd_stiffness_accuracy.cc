@@ -14,11 +14,14 @@
 #include "app/command.h"
 #include "app/run_directory.h"
 #include "app/scripts.h"
-#include "app/stiffness_stage.h"
+#include "app/stiffness_setup.h"
+#include "common/richardson.h"
+#include "stiffness/fe_tca.h"
+#include "stiffness/processes.h"
+#include "stiffness/registry.h"
+#include "stiffness/table_writer.h"
 #include "common/errors.h"
 #include "common/progress.h"
-
-#include <deal.II/base/mpi.h>
 
 #include <algorithm>
 #include <chrono>
@@ -47,68 +50,6 @@ namespace hertzgear
       double      k_total = 0, ste_pp_um = 0, k_mh = 0, k_rest = 0; // SI (N/m, um, N/m^n)
     };
 
-    struct Extrapolation
-    {
-      double      value    = std::numeric_limits<double>::quiet_NaN();
-      double      order    = std::numeric_limits<double>::quiet_NaN();
-      bool        asymptotic = false;
-      std::string note;
-    };
-
-    // Observed order and extrapolated value from three rungs f1 (coarsest), f2, f3 (finest) of
-    // sizes h1 > h2 > h3 (Celik et al. 2008, eqs. 3-6, with its fixed-point iteration for
-    // non-constant refinement ratios).
-    Extrapolation richardson(const double h1, const double h2, const double h3, const double f1,
-                             const double f2, const double f3, const double expected_order)
-    {
-      Extrapolation x;
-      const double  e21 = f2 - f1, e32 = f3 - f2;
-      const double  r21 = h1 / h2, r32 = h2 / h3;
-      if (e32 == 0.0)
-        {
-          x.value = f3;
-          x.order = std::numeric_limits<double>::infinity();
-          x.note  = "the two finest rungs agree exactly";
-          return x;
-        }
-      if (e21 == 0.0)
-        {
-          x.note = "the two coarsest rungs agree exactly: no order can be observed";
-          return x;
-        }
-      const double ratio = e32 / e21;
-      const double s     = ratio > 0 ? 1.0 : -1.0;
-      double       p     = std::abs(std::log(std::abs(1.0 / ratio))) / std::log(r21);
-      for (int it = 0; it < 100; ++it)
-        {
-          const double q  = std::log((std::pow(r21, p) - s) / (std::pow(r32, p) - s));
-          const double pn = std::abs(std::log(std::abs(1.0 / ratio)) + q) / std::log(r21);
-          if (!std::isfinite(pn))
-            break;
-          if (std::abs(pn - p) < 1e-10)
-            {
-              p = pn;
-              break;
-            }
-          p = pn;
-        }
-      x.order = p;
-      x.value = f3 + (f3 - f2) / (std::pow(r32, p) - 1.0);
-      if (ratio < 0)
-        x.note = "oscillatory convergence (the differences change sign): not in the asymptotic range";
-      else if (std::abs(ratio) >= 1)
-        x.note = "the differences grow with refinement: not in the asymptotic range";
-      else if (p < 0.5 * expected_order || p > 2.0 * expected_order)
-        x.note = msg("observed order ", p, " is far from the expected ", expected_order,
-                     ": not in the asymptotic range");
-      else
-        {
-          x.asymptotic = true;
-          x.note       = "monotone, observed order near the expected one";
-        }
-      return x;
-    }
-
     std::vector<int> parse_int_list(const std::string &text, const std::string &what)
     {
       std::vector<int>   v;
@@ -129,20 +70,15 @@ namespace hertzgear
       return v;
     }
 
-    Rung rung_from(const StiffnessStageResult &r, const fem::MeshCycleResult &cycle, const double n)
+    Rung rung_from(const stiffness::StiffnessResult &r, const std::size_t dofs)
     {
-      Rung   g;
-      double ste_min = 1e300, ste_max = -1e300;
-      for (const auto &p : cycle.positions)
-        {
-          ste_min = std::min(ste_min, p.ste_mm);
-          ste_max = std::max(ste_max, p.ste_mm);
-        }
-      g.k_total   = cycle.k_total.mean * 1e3;
-      g.ste_pp_um = (ste_max - ste_min) * 1e3;
-      g.k_mh      = cycle.k_hertz.mean * std::pow(1e3, n);
-      g.k_rest    = cycle.mean_k_rest_N_per_mm * 1e3;
-      g.dofs      = r.metadata.at("dofs").get<std::size_t>();
+      Rung g;
+      g.k_total     = r.k_total_N_per_m.mean;
+      g.ste_pp_um   = stiffness::ste_peak_to_peak_um(r);
+      g.k_mh        = r.table.k_hertz_N_per_m_pow_n.mean;
+      g.k_rest      = r.mean_k_rest_N_per_m;
+      g.dofs        = dofs;
+      g.wall_time_s = r.contact_time_s;
       return g;
     }
 
@@ -150,7 +86,7 @@ namespace hertzgear
                                const std::string &grid_factors_text)
     {
       std::ostringstream silent;
-      if (!is_root_rank())
+      if (!stiffness::is_writing_process())
         set_progress_stream(&silent);
       PhaseTimer  timer;
       const Scene base = load_scene(ctx.scene_file, ctx.overrides);
@@ -175,7 +111,6 @@ namespace hertzgear
                        grid_factors_text, "\": the study needs at least three distinct factors >= 1");
 
       const int    dim    = base.stiffness.fe_dimension;
-      const double n      = base.stiffness.hertz_exponent;
       const int    p0     = base.stiffness.contact_grid_profile_points;
       const int    f0     = dim == 2 ? 1 : base.stiffness.contact_grid_face_points;
       const double module = base.pinion.module_mm;
@@ -185,7 +120,7 @@ namespace hertzgear
       // The split between FE and half-space is held at the scene's reference depth on every
       // level, so that the ladder refines one problem (with d = 3 h following each level, the
       // quantity itself would change with the level: k_mh of line contact depends on d).
-      const double depth_mm = reference_depth_mm(base);
+      const double depth_mm = stiffness::fe_reference_depth_mm(stiffness_input(base).fe, module);
       progress_line("accuracy", msg("reference depth held at ", depth_mm, " mm on every level"));
       // The finest level first: a level that does not fit the machine (the MUMPS memory guard,
       // fem/petsc_ksp.h) stops the study at once, not after the coarser levels have run.
@@ -197,37 +132,37 @@ namespace hertzgear
           std::vector<std::string> overrides = ctx.overrides;
           overrides.push_back("Stiffness/fe_level=" + std::to_string(level));
           overrides.push_back("Stiffness/reference_depth_mm=" + msg(depth_mm));
-          const Scene           scene = load_scene(ctx.scene_file, overrides);
-          StiffnessStageOptions options;
-          const bool            with_grids = level == base.stiffness.fe_level;
+          const Scene scene = load_scene(ctx.scene_file, overrides);
+          auto        input = stiffness_input(scene);
+          const bool  with_grids = level == base.stiffness.fe_level;
           if (with_grids)
             for (const int f : factors)
               if (f != 1)
-                options.extra_contact_grids.emplace_back(p0 * f, dim == 2 ? 1 : f0 * f);
-          const fs::path mesh_dir =
+                input.fe.extra_contact_grids.emplace_back(p0 * f, dim == 2 ? 1 : f0 * f);
+          input.fe.mesh_dir =
             (ctx.out_dir.empty() ? fs::temp_directory_path() / "hertzgear_accuracy_stiffness" :
                                    fs::path(ctx.out_dir)) /
             ("mesh_level" + std::to_string(level));
           PhaseTimer stage_timer;
           const auto t0 = std::chrono::steady_clock::now();
-          StiffnessStageResult r;
+          stiffness::StiffnessResult r;
           {
             PhaseTimer::Scope scope(timer, "level " + std::to_string(level));
-            r = run_stiffness_stage(scene, mesh_dir, stage_timer, options);
+            r = stiffness::find_source("fem").compute(input, stage_timer);
           }
           const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
           double       grid_time = 0;
-          for (const auto &[phase, seconds] : stage_timer.phases())
-            if (phase == "contact over the mesh cycle (grid ladder)")
-              grid_time = seconds;
-          Rung g        = rung_from(r, r.cycle, n);
+          for (const auto &extra : r.extra_grids)
+            grid_time += extra.contact_time_s;
+          const auto dofs = r.notes.at("dofs").get<std::size_t>();
+          Rung       g    = rung_from(r, dofs);
           summary["reference_depth_mm"] = depth_mm;
           g.study       = "fe_level";
           g.level       = level;
           g.degree      = scene.stiffness.fe_degree;
           g.profile_cells = p0;
           g.face_cells  = f0;
-          g.h           = r.metadata.at("band_element_size_mm").get<double>();
+          g.h           = r.notes.at("band_element_size_mm").get<double>();
           g.wall_time_s = wall - grid_time;
           fe_rungs.push_back(g);
           progress_line("accuracy",
@@ -237,28 +172,26 @@ namespace hertzgear
                             " um  k_mh ", g.k_mh));
           if (with_grids)
             {
-              const double band = r.metadata.at("contact_band_half_width_mm").get<double>();
-              const double contact_time = stage_timer.seconds("contact over the mesh cycle");
+              const double band = r.notes.at("contact_band_half_width_mm").get<double>();
               for (const int f : factors)
                 {
-                  const fem::MeshCycleResult *c = &r.cycle;
+                  const stiffness::StiffnessResult *c = &r;
                   if (f != 1)
                     {
                       std::size_t k = 0;
                       for (const int ff : factors)
                         if (ff != 1 && ff < f)
                           ++k;
-                      c = &r.extra_cycles[k];
+                      c = &r.extra_grids[k];
                     }
-                  Rung gg          = rung_from(r, *c, n);
+                  // The grid rungs share the FE bodies: their time is the contact part only.
+                  Rung gg          = rung_from(*c, dofs);
                   gg.study         = "contact_grid";
                   gg.level         = level;
                   gg.degree        = g.degree;
                   gg.profile_cells = p0 * f;
                   gg.face_cells    = f0 * (dim == 2 ? 1 : f);
                   gg.h             = 2.0 * band / gg.profile_cells;
-                  // The grid rungs share the FE bodies: their time is the contact part only.
-                  gg.wall_time_s = f == 1 ? contact_time : grid_time / (factors.size() - 1);
                   grid_rungs.push_back(gg);
                   progress_line("accuracy", msg("contact grid ", gg.profile_cells, " x ",
                                                 gg.face_cells, "  mean k_total ",
@@ -267,7 +200,6 @@ namespace hertzgear
                 }
             }
         }
-      (void)module;
       // Run finest first; the table and the extrapolation go from coarse to fine.
       std::sort(fe_rungs.begin(), fe_rungs.end(),
                 [](const Rung &a, const Rung &b) { return a.level < b.level; });
@@ -380,7 +312,7 @@ namespace hertzgear
         progress_line("accuracy", msg("grid ladder ", name, ": extrapolated ", x.value, ", order ",
                                       x.order, " (", x.note, ")"));
 
-      if (is_root_rank())
+      if (stiffness::is_writing_process())
         {
           if (ctx.out_dir.empty())
             std::cout << csv.str();

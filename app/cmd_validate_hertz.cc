@@ -8,15 +8,17 @@
 #include "app/cmd_validate_hertz.h"
 
 #include "app/meshing_setup.h"
+#include "app/stiffness_setup.h"
+#include "stiffness/fe_tca.h"
 #include "app/scripts.h"
 #include "app/scene.h"
 #include "app/validation_scene.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/progress.h"
-#include "fem/half_space.h"
-#include "fem/hertz.h"
-#include "fem/mesh_cycle.h"
+#include "contact/half_space.h"
+#include "contact/hertz.h"
+#include "contact/mesh_cycle.h"
 #include "fem/resolved_contact.h"
 
 #include <deal.II/base/mpi.h>
@@ -99,21 +101,21 @@ namespace hertzgear
     // A body whose structural compliance at the reference depth is the half-space's: the
     // displacement at depth d below flank point `reading` of a unit force spread uniformly over
     // the TCA grid cell centred at flank point `load` (Boussinesq-Love, exact), at their offset
-    // in the developed flank (fem::developed_offset_mm).
-    class HalfSpaceFlankCompliance : public fem::FlankCompliance
+    // in the developed flank (contact::developed_offset_mm).
+    class HalfSpaceFlankCompliance : public contact::FlankCompliance
     {
     public:
-      HalfSpaceFlankCompliance(const fem::BodyMaterial &material, const double depth_mm,
+      HalfSpaceFlankCompliance(const Material &material, const double depth_mm,
                                const double base_radius_mm, const double half_cell_u_mm,
                                const double half_cell_z_mm)
         : material(material), depth(depth_mm), r_b(base_radius_mm), hu(half_cell_u_mm)
         , hz(half_cell_z_mm)
       {}
-      double compliance_mm_per_N(const fem::FlankPoint &reading, const fem::FlankPoint &load) const override
+      double compliance_mm_per_N(const contact::FlankPoint &reading, const contact::FlankPoint &load) const override
       {
         if (reading.tooth != load.tooth)
           return 0.0;
-        const Eigen::Vector2d offset = fem::developed_offset_mm(reading, load, r_b);
+        const Eigen::Vector2d offset = contact::developed_offset_mm(reading, load, r_b);
         return half_space::rectangle_displacement_at_depth(offset.x(), offset.y(), depth, hu, hz,
                                                            1.0 / (4.0 * hu * hz),
                                                            material.youngs_modulus_MPa,
@@ -122,7 +124,7 @@ namespace hertzgear
       double reference_depth_mm() const override { return depth; }
 
     private:
-      fem::BodyMaterial material;
+      Material material;
       double            depth, r_b, hu, hz;
     };
 
@@ -183,20 +185,17 @@ namespace hertzgear
       f.n_levels                     = static_cast<unsigned int>(coarse ? v.ci_levels : v.levels);
       f.kelly_fraction               = v.kelly_fraction;
       f.max_active_set_iterations    = static_cast<unsigned int>(v.max_active_set_iterations);
-      const hertz::Material rigid{1e300, 0.0};
+      const Material rigid{1e300, 0.0};
 
       if (v.kind == "crowned-flank")
         {
           const Scene                   scene = load_scene(v.gear_scene);
           const meshing::PairKinematics kin   = make_pair(scene);
           const auto                    C     = kin.point('C');
-          const hertz::Material m1{scene.pinion_material.youngs_modulus_MPa,
-                                   scene.pinion_material.poisson_ratio};
-          const hertz::Material m2{scene.gear_material.youngs_modulus_MPa,
-                                   scene.gear_material.poisson_ratio};
+          const Material &m1 = scene.pinion_material, &m2 = scene.gear_material;
           HG_REQUIRE_INPUT(std::abs(m1.poisson_ratio - m2.poisson_ratio) < 1e-12 &&
-                             std::abs(m1.youngs_modulus - m2.youngs_modulus) <=
-                               1e-12 * m1.youngs_modulus,
+                             std::abs(m1.youngs_modulus_MPa - m2.youngs_modulus_MPa) <=
+                               1e-12 * m1.youngs_modulus_MPa,
                            v.file.string(), ": the crowned-flank check models both bodies by one "
                            "equivalent body, exact for equal materials only; the gear scene has "
                            "different pinion and gear materials");
@@ -215,11 +214,9 @@ namespace hertzgear
             0.5 * std::min(scene.pinion.face_width_mm, scene.gear.face_width_mm);
           f.contact_may_reach_y_end = true;
 
-          // The TCA's reference depth (app/stiffness_stage.cc: three band elements).
-          const meshing::MeshSettings mesh = mesh_settings(scene, 3);
-          const double h_band = mesh.band_size_modules * kin.pinion().module_mm() /
-                                std::pow(2.0, mesh.refinement_level);
-          const double depth = 3.0 * h_band;
+          // The TCA's reference depth (the FE source's rule, stiffness/fe_tca.h).
+          const double depth = stiffness::fe_reference_depth_mm(stiffness_input(scene).fe,
+                                                                kin.pinion().module_mm());
           HG_REQUIRE_INPUT(depth < f.depth_mm, v.file.string(), ": Body/depth_mm = ", f.depth_mm,
                            " must exceed the TCA reference depth ", depth, " mm");
           const unsigned int k = depth_index(f.reading_depths_mm, depth);
@@ -232,25 +229,24 @@ namespace hertzgear
           // pressure: the quantity the resolved FE contact checks. With rigid bodies instead, the
           // local part alone would couple cells only within about d and the pressure would not
           // be Hertz's (also reported, for the record).
-          fem::MeshCycleSettings cs;
+          contact::MeshCycleSettings cs;
           cs.profile_cells          = static_cast<unsigned int>(scene.stiffness.contact_grid_profile_points);
           cs.face_cells             = static_cast<unsigned int>(scene.stiffness.contact_grid_face_points);
           cs.hertz_exponent         = scene.stiffness.hertz_exponent;
           cs.plane_strain           = false;
           cs.max_contact_iterations = static_cast<unsigned int>(scene.stiffness.contact_max_iterations);
-          const fem::BodyMaterial b1{m1.youngs_modulus, m1.poisson_ratio};
-          const fem::BodyMaterial b2{m2.youngs_modulus, m2.poisson_ratio};
-          const fem::RigidFlankCompliance rigid_body(depth);
-          const fem::MeshCycle rigid_cycle(kin, b1, b2, rigid_body, rigid_body, cs);
+          const Material &b1 = m1, &b2 = m2;
+          const contact::RigidFlankCompliance rigid_body(depth);
+          const contact::MeshCycle rigid_cycle(kin, b1, b2, rigid_body, rigid_body, cs);
           const double w     = rigid_cycle.band_half_width(f.load);
           const double face  = std::min(kin.pinion().face_width_mm(), kin.gear().face_width_mm());
           const HalfSpaceFlankCompliance hs1(b1, depth, kin.pinion().base_radius_mm(),
                                              w / cs.profile_cells, 0.5 * face / cs.face_cells);
           const HalfSpaceFlankCompliance hs2(b2, depth, kin.gear().base_radius_mm(),
                                              w / cs.profile_cells, 0.5 * face / cs.face_cells);
-          const fem::MeshCycle cycle(kin, b1, b2, hs1, hs2, cs);
+          const contact::MeshCycle cycle(kin, b1, b2, hs1, hs2, cs);
           const double tau = (C.roll_distance_mm - kin.point('A').roll_distance_mm) / kin.base_pitch_mm();
-          const auto pair_0 = [&](const fem::PositionResult &pos) {
+          const auto pair_0 = [&](const contact::PositionResult &pos) {
             for (const auto &p : pos.pairs)
               if (p.pair == 0)
                 {
@@ -260,9 +256,9 @@ namespace hertzgear
                 }
             throw NumericalError("tooth pair 0 is not in contact at the pitch point");
           };
-          const fem::PositionResult pos   = cycle.solve_position(tau, f.load);
-          const fem::PairState      pair0 = pair_0(pos);
-          const fem::PairState      rigid = pair_0(rigid_cycle.solve_position(tau, f.load));
+          const contact::PositionResult pos   = cycle.solve_position(tau, f.load);
+          const contact::PairState      pair0 = pair_0(pos);
+          const contact::PairState      rigid = pair_0(rigid_cycle.solve_position(tau, f.load));
           c.extras.push_back({"penetration_vs_tca_hybrid", pair0.hertz_penetration_mm, k});
           std::ostringstream notes;
           notes << std::setprecision(6) << "rho_1 " << C.rho_pinion_mm << " mm, rho_2 "
@@ -279,7 +275,7 @@ namespace hertzgear
         }
 
       c.contact_modulus = f.youngs_modulus_MPa / (1 - f.poisson_ratio * f.poisson_ratio);
-      const hertz::Material body{f.youngs_modulus_MPa, f.poisson_ratio};
+      const Material body{f.youngs_modulus_MPa, f.poisson_ratio};
       if (v.kind == "cylinder-2d" || v.kind == "finite-cylinder")
         {
           c.line = true;

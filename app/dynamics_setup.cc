@@ -1,5 +1,6 @@
 #include "app/dynamics_setup.h"
 
+#include "app/stiffness_setup.h"
 #include "common/errors.h"
 
 #include <cmath>
@@ -15,7 +16,7 @@ namespace hertzgear
 
     // Solid disc between the bore and the root circle r_f = m (z/2 - h_fP/m + x), over the face
     // width: I = rho b pi (r_f^4 - r_bore^4) / 2.
-    double disc_inertia_kg_m2(const GearScene &g, const MaterialScene &mat)
+    double disc_inertia_kg_m2(const GearScene &g, const Material &mat)
     {
       const double r_f  = 1e-3 * g.module_mm * (g.teeth / 2.0 - g.dedendum_coefficient +
                                                g.profile_shift_coefficient);
@@ -26,56 +27,20 @@ namespace hertzgear
              (std::pow(r_f, 4) - std::pow(r_in, 4)) / 2.0;
     }
 
-    dynamics::FourierSeries series(const double mean, const std::vector<double> &amplitudes,
-                                   const std::vector<double> &phases)
-    {
-      dynamics::FourierSeries s;
-      s.mean       = mean;
-      s.amplitudes = amplitudes;
-      s.phases_rad = phases.empty() ? std::vector<double>(amplitudes.size(), 0.0) : phases;
-      return s;
-    }
   } // namespace
 
   dynamics::StiffnessTable stiffness_table_for(const Scene &scene)
   {
-    const auto &st = scene.stiffness;
-    dynamics::StiffnessTable table;
-    if (st.source == "fourier")
-      {
-        const auto &f        = st.fourier;
-        table.hertz_exponent = st.hertz_exponent;
-        table.k_rest_N_per_m =
-          series(f.k_rest_mean_N_per_m, f.k_rest_amplitudes_N_per_m, f.k_rest_phases_rad);
-        table.k_hertz_N_per_m_pow_n = series(f.k_hertz_mean_N_per_m_pow_n,
-                                             f.k_hertz_amplitudes_N_per_m_pow_n,
-                                             f.k_hertz_phases_rad);
-        table.source = "scene Stiffness/Fourier";
-        if (scene.effects.ste_excitation == "table")
-          {
-            const auto from_file = dynamics::read_stiffness_table(st.table_file);
-            table.unloaded_ste_m   = from_file.unloaded_ste_m;
-            table.has_unloaded_ste = from_file.has_unloaded_ste;
-          }
-      }
-    else if (st.source == "table")
-      {
-        table = dynamics::read_stiffness_table(st.table_file);
-        HG_REQUIRE_INPUT(std::abs(table.hertz_exponent - st.hertz_exponent) < 1e-12,
-                         "the stiffness table ", st.table_file.string(), " has hertz_exponent = ",
-                         table.hertz_exponent, " but the scene says Stiffness/hertz_exponent = ",
-                         st.hertz_exponent, "; make them agree");
-      }
-    else
-      throw InputError(msg(
-        "Stiffness/source = ", st.source,
-        " is produced by the stiffness stage (`hertzgear stiffness SCENE --out DIR` writes "
-        "stiffness.json); the dynamics reads stiffness from a table or from Fourier coefficients. "
-        "Run the stiffness stage and set Stiffness/source = table with Stiffness/table_file = "
-        "DIR/stiffness.json, or give the coefficients with Stiffness/source = fourier "
-        "(subsection Stiffness/Fourier)"));
-    table.check();
-    return table;
+    const auto &source = stiffness_source(scene);
+    HG_REQUIRE_INPUT(!source.is_stage(),
+                     "Stiffness/source = ", source.name(),
+                     " is produced by the stiffness stage (`hertzgear stiffness SCENE --out DIR` writes "
+                     "stiffness.json); the dynamics reads stiffness from a table or from Fourier "
+                     "coefficients. Run the stiffness stage and set Stiffness/source = table with "
+                     "Stiffness/table_file = DIR/stiffness.json, or give the coefficients with "
+                     "Stiffness/source = fourier (subsection Stiffness/Fourier)");
+    PhaseTimer timer;
+    return source.compute(stiffness_input(scene), timer).table;
   }
 
   DynamicsSetup make_dynamics_setup(const Scene &scene)

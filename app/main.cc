@@ -8,6 +8,7 @@
 // 1 anything else.
 #include "app/cmd_validate_hertz.h"
 #include "app/command.h"
+#include "app/stiffness_setup.h"
 #include "common/errors.h"
 
 #include <hertzgear/version.h>
@@ -85,6 +86,11 @@ int main(int argc, char **argv)
           return exit_bad_input;
         }
       return action();
+    }
+  catch (const ParameterError &e)
+    {
+      std::cerr << "hertzgear: input error: " << scene_message(e) << std::endl;
+      return exit_bad_input;
     }
   catch (const InputError &e)
     {

@@ -36,16 +36,6 @@ namespace hertzgear
     return p;
   }
 
-  meshing::MeshSettings mesh_settings(const Scene &scene, const int dimension)
-  {
-    meshing::MeshSettings s;
-    s.dimension          = dimension;
-    s.teeth_per_sector   = scene.mesh.teeth_per_sector;
-    s.face_width_layers  = scene.mesh.face_width_layers;
-    s.refinement_level   = scene.stiffness.fe_level;
-    return s;
-  }
-
   meshing::PairKinematics make_pair(const Scene &scene)
   {
     return meshing::PairKinematics(pair_parameters(scene));

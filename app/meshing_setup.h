@@ -1,7 +1,6 @@
 #pragma once
 // From a scene to the plain inputs of the meshing stage (mm and radians).
 #include "app/scene.h"
-#include "meshing/gear_body_mesher.h"
 #include "meshing/gear_parameters.h"
 #include "meshing/pair_kinematics.h"
 
@@ -9,7 +8,6 @@ namespace hertzgear
 {
   meshing::GearParameters gear_parameters(const GearScene &gear, const std::string &name);
   meshing::PairParameters pair_parameters(const Scene &scene);
-  meshing::MeshSettings   mesh_settings(const Scene &scene, int dimension);
 
   // Builds the pair and runs every geometry check (throws InputError).
   meshing::PairKinematics make_pair(const Scene &scene);

@@ -1,11 +1,10 @@
 #include "app/pipeline.h"
 
-#include "app/analytic_stiffness.h"
 #include "app/cmd_dynamics.h"
 #include "app/command.h"
 #include "app/run_directory.h"
 #include "app/scripts.h"
-#include "app/stiffness_stage.h"
+#include "app/stiffness_setup.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/hash.h"
@@ -33,11 +32,7 @@ namespace hertzgear
       "summary.json"};
     const std::vector<std::string> sweep_artifacts = {"sweep.csv", "bifurcation.csv"};
 
-    bool stiffness_stage_needed(const Scene &scene)
-    {
-      const auto &s = scene.stiffness.source;
-      return s == "fem" || is_closed_form_source(s);
-    }
+    bool stiffness_stage_needed(const Scene &scene) { return stiffness_source(scene).is_stage(); }
 
     // "Section/key = value" lines of `prefixes`, without the lines starting with one of `drop`.
     std::string values(const Scene &scene, const std::vector<std::string> &prefixes,
@@ -302,7 +297,7 @@ namespace hertzgear
         auto prefixes = geometry;
         prefixes.push_back("Stiffness");
         std::vector<std::string> drop = {"Operating/speed_rpm", "Stiffness/Fourier"};
-        if (scene.stiffness.source == "fem")
+        if (stiffness_source(scene).uses_fe())
           {
             prefixes.push_back("Mesh");
             prefixes.push_back("Output"); // write_fields: the FE stage's .vtu output
@@ -331,20 +326,10 @@ namespace hertzgear
   std::vector<std::pair<std::string, std::string>> planned_stages(const Scene &scene)
   {
     std::vector<std::pair<std::string, std::string>> stages;
-    const auto &src = scene.stiffness.source;
-    if (src == "fem")
-      stages.emplace_back("stiffness", "Stiffness/source = fem: meshing (gmsh) and FE contact "
-                                       "over the mesh cycle (deal.II)");
-    else if (src == "iso6336")
-      stages.emplace_back("stiffness", "Stiffness/source = iso6336: ISO 6336-1 method B with Hertz "
-                                       "closed forms");
-    else if (src == "hertz-analytic")
-      stages.emplace_back("stiffness", "Stiffness/source = hertz-analytic: Hertz closed forms along "
-                                       "the path of contact");
-    else if (src == "potential-energy")
-      stages.emplace_back("stiffness", "Stiffness/source = potential-energy: tooth beam and fillet "
-                                       "foundation compliance with Hertz contact along the path of "
-                                       "contact");
+    const auto &src    = scene.stiffness.source;
+    const auto &source = stiffness_source(scene);
+    if (source.is_stage())
+      stages.emplace_back("stiffness", "Stiffness/source = " + src + ": " + source.summary());
     stages.emplace_back("dynamics",
                         src == "table" ?
                           "on the stiffness table " + scene.stiffness.table_file.lexically_normal().string() +
@@ -442,21 +427,7 @@ namespace hertzgear
             fs::remove(manifest_path(out, stage)); // no manifest while the stage is under way
             if (stage == "stiffness")
               {
-                if (scene.stiffness.source == "fem")
-                  {
-                    const auto result = run_stiffness_stage(scene, out / "mesh", timer);
-                    PhaseTimer::Scope scope(timer, "write stiffness");
-                    dir.write_text("stiffness.csv",
-                                   stiffness_csv(result, scene.stiffness.hertz_exponent));
-                    dir.write_json("stiffness.json", stiffness_json(result, scene));
-                  }
-                else
-                  {
-                    PhaseTimer::Scope scope(timer, "closed-form stiffness");
-                    const auto        a = analytic_stiffness(scene);
-                    dir.write_text("stiffness.csv", a.csv);
-                    dir.write_json("stiffness.json", a.json);
-                  }
+                write_stiffness(scene, dir, scene.output.write_fields, timer);
               }
             else if (stage == "dynamics")
               {

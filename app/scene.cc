@@ -4,6 +4,7 @@
 
 #include "common/errors.h"
 #include "common/hash.h"
+#include "stiffness/registry.h"
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/patterns.h>
@@ -25,6 +26,24 @@ namespace hertzgear
 
   namespace
   {
+    // The stiffness sources of the registry, as a selection pattern and a help text.
+    std::string source_selection()
+    {
+      std::string names;
+      for (const auto &name : stiffness::source_names())
+        names += (names.empty() ? "" : "|") + name;
+      return names;
+    }
+
+    std::string source_help()
+    {
+      std::string text = "Stiffness source:";
+      for (const auto *source : stiffness::sources())
+        text += " " + source->name() + ": " + source->summary() +
+                (source == stiffness::sources().back() ? "." : ";");
+      return text + " Sources are described in docs/stiffness-closed-form.md and docs/theory-tca.md.";
+    }
+
     // One declared entry, for unknown-key detection on --set and for docs/scenes.md.
     struct EntryInfo
     {
@@ -141,7 +160,7 @@ namespace hertzgear
       s.leave();
     }
 
-    void declare_material(SceneSchema &s, MaterialScene &m, const std::string &name)
+    void declare_material(SceneSchema &s, Material &m, const std::string &name)
     {
       m.youngs_modulus_MPa = 206000.0;
       m.poisson_ratio      = 0.3;
@@ -241,11 +260,7 @@ namespace hertzgear
       st.linear_solver               = "direct";
       st.linear_solver_tolerance     = 1.0e-10;
       s.enter("Stiffness", "Where the mesh stiffness comes from and how finely it is resolved.");
-      s.add("source", st.source, Patterns::Selection("fem|table|fourier|iso6336|hertz-analytic|potential-energy"),
-            "Stiffness source: fem (meshing + FE contact over the mesh cycle), table (a stiffness "
-            "JSON file, see table_file), fourier (coefficients in subsection Fourier), iso6336 "
-            "(ISO 6336-1 method B), hertz-analytic (Hertz closed forms) or potential-energy (tooth "
-            "beam and fillet-foundation compliance with Hertz contact, docs/stiffness-closed-form.md).");
+      s.add("source", st.source, Patterns::Selection(source_selection()), source_help());
       s.add("table_file", st.table_file_entry, Patterns::Anything(),
             "Stiffness JSON file for source = table (path relative to the scene file).");
       s.add("positions_per_cycle", st.positions_per_cycle, Patterns::Integer(1, 1024),

@@ -3,6 +3,8 @@
 // resolved into plain structs. Parsing, range checks and help texts live in scene.cc (deal.II
 // ParameterHandler); nothing below needs deal.II headers (one message helper takes a forward-declared
 // deal.II exception), so stages take plain values.
+#include "common/material.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -30,13 +32,6 @@ namespace hertzgear
     double      tip_relief_um                 = 0; // C_a at the tip
     double      tip_relief_length_mm          = 0; // along the line of action, from the tip
     std::string tip_relief_shape;                  // linear | parabolic
-  };
-
-  struct MaterialScene
-  {
-    double youngs_modulus_MPa = 0;
-    double poisson_ratio      = 0;
-    double density_kg_per_m3  = 0;
   };
 
   struct OperatingScene
@@ -143,7 +138,7 @@ namespace hertzgear
   {
     std::filesystem::path file; // empty for the built-in defaults
     GearScene             pinion, gear;
-    MaterialScene         pinion_material, gear_material;
+    Material              pinion_material, gear_material;
     OperatingScene        operating;
     EffectsScene          effects;
     StiffnessScene        stiffness;

@@ -29,6 +29,45 @@ namespace hertzgear
     using std::runtime_error::runtime_error;
   };
 
+  // Bad input about one named field of a library's plain input (e.g. "torque_Nm"). The libraries
+  // below app/ name their own fields; app/ replaces the field by the scene key it came from.
+  // what() reads "<parameter> = <text>"; `text` starts with the offending value and writes other
+  // fields it names as {field}.
+  class ParameterError : public InputError
+  {
+  public:
+    ParameterError(const std::string &parameter, const std::string &text)
+      : InputError(parameter + " = " + text), name(parameter), rest(text)
+    {}
+    const std::string &parameter() const { return name; }
+    const std::string &text() const { return rest; }
+
+  private:
+    std::string name, rest;
+  };
+
+  // The exit code of an exception: InputError 2, NumericalError 3, anything else 1.
+  inline int exit_code_of(const std::exception &e)
+  {
+    if (dynamic_cast<const InputError *>(&e))
+      return exit_bad_input;
+    if (dynamic_cast<const NumericalError *>(&e))
+      return exit_numerical;
+    return exit_other;
+  }
+
+  // Throws the exception of that exit code with that text (the inverse of exit_code_of, for an
+  // error passed between processes); does nothing for exit_success.
+  inline void throw_for_exit_code(const int code, const std::string &text)
+  {
+    if (code == exit_bad_input)
+      throw InputError(text);
+    if (code == exit_numerical)
+      throw NumericalError(text);
+    if (code != exit_success)
+      throw std::runtime_error(text);
+  }
+
   // Build a message from streamable pieces: throw InputError(msg("teeth = ", z, " < 6")).
   template <typename... Args>
   std::string msg(const Args &...args)

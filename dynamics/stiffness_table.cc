@@ -3,7 +3,6 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 
-#include <fftw3.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -16,49 +15,11 @@ namespace hertzgear::dynamics
   {
     constexpr const char *schema_name = "hertzgear-stiffness-table/1";
 
-    nlohmann::json series_to_json(const FourierSeries &s)
-    {
-      return {{"mean", s.mean}, {"amplitudes", s.amplitudes}, {"phases_rad", s.phases_rad}};
-    }
-
-    FourierSeries series_from_json(const nlohmann::json &j, const std::string &where)
-    {
-      HG_REQUIRE_INPUT(j.is_object(), where, ": expected an object with mean, amplitudes, phases_rad");
-      HG_REQUIRE_INPUT(j.contains("mean"), where, ": missing key 'mean'");
-      FourierSeries s;
-      s.mean = j.at("mean").get<double>();
-      if (j.contains("amplitudes"))
-        s.amplitudes = j.at("amplitudes").get<std::vector<double>>();
-      if (j.contains("phases_rad"))
-        s.phases_rad = j.at("phases_rad").get<std::vector<double>>();
-      if (s.phases_rad.empty())
-        s.phases_rad.assign(s.amplitudes.size(), 0.0);
-      HG_REQUIRE_INPUT(s.phases_rad.size() == s.amplitudes.size(), where, ": ",
-                       s.amplitudes.size(), " amplitudes but ", s.phases_rad.size(), " phases");
-      return s;
-    }
-
     std::vector<double> optional_vector(const nlohmann::json &j, const char *key)
     {
       return j.contains(key) ? j.at(key).get<std::vector<double>>() : std::vector<double>{};
     }
   } // namespace
-
-  double FourierSeries::value(const double theta) const
-  {
-    double v = mean;
-    for (unsigned j = 0; j < amplitudes.size(); ++j)
-      v += amplitudes[j] * std::cos((j + 1) * theta - phases_rad[j]);
-    return v;
-  }
-
-  double FourierSeries::derivative(const double theta) const
-  {
-    double d = 0.0;
-    for (unsigned j = 0; j < amplitudes.size(); ++j)
-      d -= (j + 1) * amplitudes[j] * std::sin((j + 1) * theta - phases_rad[j]);
-    return d;
-  }
 
   FourierEvaluator::FourierEvaluator(const FourierSeries &series) : mean(series.mean)
   {
@@ -86,42 +47,6 @@ namespace hertzgear::dynamics
     taylor[0] = v;
     taylor[1] = d1;
     taylor[2] = d2;
-  }
-
-  double FourierSeries::amplitude_bound() const
-  {
-    double b = 0.0;
-    for (const double a : amplitudes)
-      b += std::abs(a);
-    return b;
-  }
-
-  FourierSeries fit_fourier_series(const std::vector<double> &samples, const unsigned n_harmonics)
-  {
-    const int n_samples = samples.size();
-    HG_REQUIRE_INPUT(n_samples >= int(2 * n_harmonics + 1), "a Fourier fit of ", n_harmonics,
-                     " harmonics needs at least ", 2 * n_harmonics + 1, " samples per cycle, got ",
-                     n_samples);
-    std::vector<double>       in(samples);
-    std::vector<fftw_complex> out(n_samples / 2 + 1);
-    // FFTW_ESTIMATE does not overwrite the input while planning.
-    fftw_plan plan = fftw_plan_dft_r2c_1d(n_samples, in.data(), out.data(), FFTW_ESTIMATE);
-    fftw_execute(plan);
-    fftw_destroy_plan(plan);
-
-    // x_i = mean + sum_j a_j cos(j theta_i - phi_j)  <=>  X_j = (S/2) a_j e^{-i phi_j} for
-    // 0 < j < S/2 (FFTW's forward sign is e^{-2 pi i j k / S}).
-    FourierSeries s;
-    s.mean = out[0][0] / n_samples;
-    for (unsigned j = 1; j <= n_harmonics; ++j)
-      {
-        const bool   nyquist = (2 * int(j) == n_samples);
-        const double scale   = nyquist ? 1.0 / n_samples : 2.0 / n_samples;
-        const double re = out[j][0] * scale, im = out[j][1] * scale;
-        s.amplitudes.push_back(std::hypot(re, im));
-        s.phases_rad.push_back(std::atan2(-im, re));
-      }
-    return s;
   }
 
   void StiffnessTable::check() const
@@ -195,7 +120,7 @@ namespace hertzgear::dynamics
                                  FourierSeries &out) -> bool {
           if (j.contains(key))
             {
-              out = series_from_json(j.at(key), where + ": " + key);
+              out = fourier_series_from_json(j.at(key), where + ": " + key);
               return true;
             }
           if (!samples.empty())
@@ -237,10 +162,10 @@ namespace hertzgear::dynamics
     j["schema"]                = schema_name;
     j["source"]                = t.source;
     j["hertz_exponent"]        = t.hertz_exponent;
-    j["k_rest_N_per_m"]        = series_to_json(t.k_rest_N_per_m);
-    j["k_hertz_N_per_m_pow_n"] = series_to_json(t.k_hertz_N_per_m_pow_n);
+    j["k_rest_N_per_m"]        = fourier_series_json(t.k_rest_N_per_m);
+    j["k_hertz_N_per_m_pow_n"] = fourier_series_json(t.k_hertz_N_per_m_pow_n);
     if (t.has_unloaded_ste)
-      j["unloaded_ste_m"] = series_to_json(t.unloaded_ste_m);
+      j["unloaded_ste_m"] = fourier_series_json(t.unloaded_ste_m);
     if (!t.samples.empty())
       {
         nlohmann::json s;

@@ -2,30 +2,14 @@
 // The one contract between the FE stage and the dynamics: the mesh stiffness over a mesh cycle.
 // A plain value type plus its JSON form (schema in docs/architecture.md, "Stiffness table schema").
 // Everything is in SI units; the JSON keys carry their units.
+#include "common/fourier_series.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace hertzgear::dynamics
 {
-  // value(theta) = mean + sum_j amplitudes[j] cos((j+1) theta - phases[j]), theta = omega_m t the
-  // mesh phase angle (rad). The paper's eq. (4) with theta = omega_m t.
-  struct FourierSeries
-  {
-    double              mean = 0.0;
-    std::vector<double> amplitudes;
-    std::vector<double> phases_rad;
-
-    unsigned n_harmonics() const { return amplitudes.size(); }
-    double   value(double theta) const;
-    // d value / d theta.
-    double derivative(double theta) const;
-    // The same series without its harmonics (the mean only).
-    FourierSeries constant_part() const { return {mean, {}, {}}; }
-    // Largest value of |value - mean| bound: sum of |amplitudes|.
-    double amplitude_bound() const;
-  };
-
   // The same series in the form mean + sum_j a_j cos(j theta) + b_j sin(j theta), evaluated with one
   // cos/sin pair per call (the angle-addition recurrence gives the higher orders; its rounding
   // grows like j eps). For right-hand sides that evaluate a series at every stage.
@@ -44,10 +28,6 @@ namespace hertzgear::dynamics
     double              mean = 0.0;
     std::vector<double> a, b;
   };
-
-  // Fit `n_harmonics` harmonics to `samples` taken at theta_i = 2 pi i / S, i = 0..S-1 (one mesh
-  // cycle), with FFTW's real-to-complex transform. Requires S >= 2 n_harmonics + 1.
-  FourierSeries fit_fourier_series(const std::vector<double> &samples, unsigned n_harmonics);
 
   // Optional sampled series over one mesh cycle, as the FE stage computes them.
   struct StiffnessSamples

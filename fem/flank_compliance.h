@@ -19,8 +19,8 @@
 // nodes can then be spaced by the smooth remainder, not by d. Distances are measured in the
 // flank's developed surface (involute arc length across the profile, z along the face).
 #include "fem/elastic_body.h"
-#include "fem/half_space.h"
-#include "fem/mesh_cycle.h"
+#include "contact/half_space.h"
+#include "contact/mesh_cycle.h"
 #include "meshing/gear_geometry.h"
 
 #include <Eigen/Dense>
@@ -30,6 +30,10 @@
 
 namespace hertzgear::fem
 {
+  using contact::developed_offset_mm;
+  using contact::FlankCompliance;
+  using contact::FlankPoint;
+
   struct FlankTableSettings
   {
     std::vector<int> teeth{-1, 0, 1}; // relative to the body mesh's central tooth

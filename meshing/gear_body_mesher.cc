@@ -286,15 +286,15 @@ namespace hertzgear::meshing
             int         tag = 0;
             switch (c.role)
               {
-                case Role::drive_flank: name = "drive_flank_" + std::to_string(c.tooth), tag = 100 + c.tooth; break;
-                case Role::coast_flank: name = "coast_flank_" + std::to_string(c.tooth), tag = 200 + c.tooth; break;
-                case Role::drive_fillet: name = "drive_fillet_" + std::to_string(c.tooth), tag = 300 + c.tooth; break;
-                case Role::coast_fillet: name = "coast_fillet_" + std::to_string(c.tooth), tag = 400 + c.tooth; break;
-                case Role::root: name = "root", tag = 15; break;
-                case Role::tip: name = "tip_land", tag = 16; break;
-                case Role::bore: name = "bore", tag = 10; break;
-                case Role::cut_start: name = "sector_cut_start", tag = 11; break;
-                case Role::cut_end: name = "sector_cut_end", tag = 12; break;
+                case Role::drive_flank: name = "drive_flank_" + std::to_string(c.tooth), tag = physical_tag::drive_flank + c.tooth; break;
+                case Role::coast_flank: name = "coast_flank_" + std::to_string(c.tooth), tag = physical_tag::coast_flank + c.tooth; break;
+                case Role::drive_fillet: name = "drive_fillet_" + std::to_string(c.tooth), tag = physical_tag::drive_fillet + c.tooth; break;
+                case Role::coast_fillet: name = "coast_fillet_" + std::to_string(c.tooth), tag = physical_tag::coast_fillet + c.tooth; break;
+                case Role::root: name = "root", tag = physical_tag::root; break;
+                case Role::tip: name = "tip_land", tag = physical_tag::tip_land; break;
+                case Role::bore: name = "bore", tag = physical_tag::bore; break;
+                case Role::cut_start: name = "sector_cut_start", tag = physical_tag::sector_cut_start; break;
+                case Role::cut_end: name = "sector_cut_end", tag = physical_tag::sector_cut_end; break;
               }
             groups[name].first = tag;
             groups[name].second.push_back(entity(c.tag));
@@ -546,8 +546,7 @@ namespace hertzgear::meshing
           }
       q.contact_band_max_edge_mm  = max_edge;
       q.contact_band_mean_edge_mm = n_edges ? sum / n_edges : 0;
-      q.contact_band_target_size_mm =
-        settings.band_size_modules * std::ldexp(1.0, -settings.refinement_level) * gear.module_mm();
+      q.contact_band_target_size_mm = settings.band_element_size_mm(gear.module_mm());
     }
     q.n_teeth_meshed = b.n_teeth;
     q.central_tooth  = b.central;

@@ -26,11 +26,28 @@
 //   tag 400 + k      coast_fillet_k
 #include "meshing/gear_geometry.h"
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 
 namespace hertzgear::meshing
 {
+  // Physical-group tags of the bodies (gmsh physical groups; deal.II's GridIn reads them as
+  // boundary ids): the bore, the two radial cuts of a sector, and per tooth k of the mesh its
+  // drive flank (100 + k), coast flank (200 + k), drive and coast fillets (300 + k, 400 + k).
+  namespace physical_tag
+  {
+    constexpr int bore             = 10;
+    constexpr int sector_cut_start = 11;
+    constexpr int sector_cut_end   = 12;
+    constexpr int root             = 15;
+    constexpr int tip_land         = 16;
+    constexpr int drive_flank      = 100;
+    constexpr int coast_flank      = 200;
+    constexpr int drive_fillet     = 300;
+    constexpr int coast_fillet     = 400;
+  } // namespace physical_tag
+
   struct MeshSettings
   {
     int  dimension          = 2;
@@ -45,6 +62,13 @@ namespace hertzgear::meshing
     // Depth of the refined band below the flank surface, in modules.
     double band_depth_modules = 0.3;
     bool   apply_modifications = true; // crowning (3D) and tip relief on the mesh nodes
+
+    // Element size in the contact band [mm]: band_size_modules x module / 2^level. The one rule
+    // for it: the mesher sizes the band by it, the FE source derives its reference depth from it.
+    double band_element_size_mm(const double module_mm) const
+    {
+      return band_size_modules * module_mm * std::ldexp(1.0, -refinement_level);
+    }
   };
 
   struct MeshQuality

@@ -52,7 +52,7 @@ TEST(Scene, PaperCrownedCarriesTables1And2)
       EXPECT_DOUBLE_EQ(g->face_width_mm, 20.0);
       EXPECT_DOUBLE_EQ(g->crowning_um, 80.0);
     }
-  for (const MaterialScene *m : {&s.pinion_material, &s.gear_material})
+  for (const Material *m : {&s.pinion_material, &s.gear_material})
     {
       EXPECT_DOUBLE_EQ(m->youngs_modulus_MPa, 206000.0);
       EXPECT_DOUBLE_EQ(m->poisson_ratio, 0.3);

@@ -11,6 +11,8 @@
 
 using namespace hertzgear::dynamics;
 using namespace hertzgear::dynamics::testing;
+using hertzgear::FourierSeries;
+using hertzgear::fit_fourier_series;
 
 // Requirement: a Fourier fit by FFTW of S uniform samples of a series with h <= (S-1)/2 harmonics
 // returns its mean, amplitudes and phases. Tolerance 1e-12 relative: the DFT of exactly

@@ -206,7 +206,7 @@ TEST(FlankCompliance, HalfSpaceSplitReturnsTheTableAtItsNodes)
   s.split_half_space   = true;
   const fem::TabulatedFlankCompliance<3> table(*body, gear, central, s);
 
-  std::vector<fem::FlankPoint> nodes;
+  std::vector<contact::FlankPoint> nodes;
   const double z0 = -0.5 * gear.face_width_mm() + s.patch_radius_mm;
   const double dz = (gear.face_width_mm() - 2 * s.patch_radius_mm) / (s.n_face - 1.0);
   for (const int t : s.teeth)

@@ -1,12 +1,12 @@
-// The hybrid FE / half-space compliance (fem/half_space.h hybrid_compliance) on a 3D elastic
+// The hybrid FE / half-space compliance (contact/half_space.h hybrid_compliance) on a 3D elastic
 // block (ElasticBody<3>) pressed by a rigid sphere: the contact solver on the hybrid compliance
 // shall reproduce Hertz's ellipse, and the FE at depth shall differ from the half-space at depth
 // only by a smooth global part.
 #include "common/errors.h"
-#include "fem/contact_solver.h"
+#include "contact/contact_solver.h"
 #include "fem/elastic_body.h"
-#include "fem/half_space.h"
-#include "fem/hertz.h"
+#include "contact/half_space.h"
+#include "contact/hertz.h"
 
 #include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
@@ -19,6 +19,7 @@
 using namespace dealii;
 using namespace hertzgear;
 using hertzgear::fem::ElasticBody;
+using namespace hertzgear::contact;
 
 namespace
 {
@@ -60,7 +61,7 @@ TEST(Hybrid, BlockUnderRigidSphereReproducesHertz)
   body.run();
 
   const double R = 20.0, F = 500.0, depth = 2.0, patch_radius = 0.5;
-  const hertz::Material block{E, nu};
+  const Material block{E, nu};
   const double          E_star = E / (1 - nu * nu); // rigid sphere
   const auto            hertz  = hertz::circular_contact(F, R, E_star);
   const double          a      = hertz.semi_major;

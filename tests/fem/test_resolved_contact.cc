@@ -2,7 +2,7 @@
 // reproduces the Hertz closed forms, and fails clearly on bad problems.
 // Measured accuracy per level and the method: docs/validation-hertz.md.
 #include "common/errors.h"
-#include "fem/hertz.h"
+#include "contact/hertz.h"
 #include "fem/resolved_contact.h"
 
 #include <deal.II/base/mpi.h>

@@ -4,7 +4,7 @@
 // shifted spur gears m = 3, alpha = 20 deg, z = 12/24, x = 0.6/0.36).
 #include "meshing/gear_geometry.h"
 #include "meshing/involute.h"
-#include "meshing/iso6336.h"
+#include "stiffness/iso6336.h"
 #include "meshing/pair_kinematics.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +13,7 @@
 #include <limits>
 
 using namespace hertzgear::meshing;
+using hertzgear::stiffness::iso6336_method_b;
 
 namespace
 {

@@ -1,0 +1,152 @@
+#include "app/stiffness_setup.h"
+
+#include "app/meshing_setup.h"
+#include "common/atomic_file.h"
+#include "common/errors.h"
+#include "stiffness/processes.h"
+#include "stiffness/registry.h"
+#include "stiffness/table_writer.h"
+
+#include <map>
+
+namespace hertzgear
+{
+  namespace fs = std::filesystem;
+
+  namespace
+  {
+    FourierSeries series(const double mean, const std::vector<double> &amplitudes,
+                         const std::vector<double> &phases)
+    {
+      FourierSeries s;
+      s.mean       = mean;
+      s.amplitudes = amplitudes;
+      s.phases_rad = phases.empty() ? std::vector<double>(amplitudes.size(), 0.0) : phases;
+      return s;
+    }
+
+    // Renames the fields written under a temporary name into place, replacing an older folder:
+    // it is moved aside first, so that the folder is never half there.
+    void commit_fields(const fs::path &partial, const fs::path &fields_dir)
+    {
+      if (partial.empty())
+        return;
+      const fs::path old = temporary_path_for(fields_dir);
+      if (fs::exists(fields_dir))
+        fs::rename(fields_dir, old);
+      fs::rename(partial, fields_dir);
+      fs::remove_all(old);
+    }
+  } // namespace
+
+  std::string scene_message(const ParameterError &error)
+  {
+    // StiffnessInput's fields and the scene keys they are filled from (stiffness_input below).
+    static const std::map<std::string, std::string> keys = {
+      {"torque_Nm", "Operating/torque_Nm"},
+      {"positions_per_cycle", "Stiffness/positions_per_cycle"},
+      {"harmonics", "Stiffness/harmonics"},
+      {"hertz_exponent", "Stiffness/hertz_exponent"},
+      {"source", "Stiffness/source"},
+      {"table_file", "Stiffness/table_file"},
+      {"dimension", "Stiffness/fe_dimension"},
+      {"level", "Stiffness/fe_level"},
+      {"degree", "Stiffness/fe_degree"},
+      {"teeth_per_sector", "Mesh/teeth_per_sector"},
+      {"face_width_layers", "Mesh/face_width_layers"},
+      {"contact_grid_profile_cells", "Stiffness/contact_grid_profile_points"},
+      {"contact_grid_face_cells", "Stiffness/contact_grid_face_points"},
+      {"contact_max_iterations", "Stiffness/contact_max_iterations"},
+      {"reference_depth_mm", "Stiffness/reference_depth_mm"},
+      {"table_face_nodes", "Stiffness/table_face_nodes"},
+      {"table_roll_nodes", "Stiffness/table_roll_nodes"},
+      {"linear_solver", "Stiffness/linear_solver"}};
+    const auto key_of = [&](const std::string &field) {
+      const auto it = keys.find(field);
+      return it == keys.end() ? field : it->second;
+    };
+    std::string text = error.text();
+    for (std::size_t open = text.find('{'); open != std::string::npos; open = text.find('{', open + 1))
+      {
+        const std::size_t close = text.find('}', open);
+        if (close == std::string::npos)
+          break;
+        const std::string field = text.substr(open + 1, close - open - 1);
+        if (!keys.count(field))
+          continue;
+        text.replace(open, close - open + 1, key_of(field));
+      }
+    return key_of(error.parameter()) + " = " + text;
+  }
+
+  stiffness::StiffnessInput stiffness_input(const Scene &scene)
+  {
+    const auto               &st = scene.stiffness;
+    stiffness::StiffnessInput in;
+    in.pair                    = pair_parameters(scene);
+    in.pinion_material         = scene.pinion_material;
+    in.gear_material           = scene.gear_material;
+    in.torque_Nm               = scene.operating.torque_Nm;
+    in.positions_per_cycle     = st.positions_per_cycle;
+    in.harmonics               = st.harmonics;
+    in.hertz_exponent          = st.hertz_exponent;
+    in.table_file              = st.table_file;
+    in.unloaded_ste_from_table = scene.effects.ste_excitation == "table";
+    const auto &f              = st.fourier;
+    in.k_rest_N_per_m = series(f.k_rest_mean_N_per_m, f.k_rest_amplitudes_N_per_m, f.k_rest_phases_rad);
+    in.k_hertz_N_per_m_pow_n = series(f.k_hertz_mean_N_per_m_pow_n, f.k_hertz_amplitudes_N_per_m_pow_n,
+                                      f.k_hertz_phases_rad);
+    auto &fe                      = in.fe;
+    fe.dimension                  = st.fe_dimension;
+    fe.level                      = st.fe_level;
+    fe.degree                     = st.fe_degree;
+    fe.teeth_per_sector           = scene.mesh.teeth_per_sector;
+    fe.face_width_layers          = scene.mesh.face_width_layers;
+    fe.contact_grid_profile_cells = st.contact_grid_profile_points;
+    fe.contact_grid_face_cells    = st.contact_grid_face_points;
+    fe.contact_max_iterations     = st.contact_max_iterations;
+    fe.decoupled_teeth            = st.tooth_coupling == "decoupled";
+    fe.reference_depth_mm         = st.reference_depth_mm;
+    fe.table_face_nodes           = st.table_face_nodes;
+    fe.table_roll_nodes           = st.table_roll_nodes;
+    fe.table_half_space_split     = st.table_half_space_split;
+    fe.linear_solver              = st.linear_solver;
+    fe.linear_solver_tolerance    = st.linear_solver_tolerance;
+    return in;
+  }
+
+  const stiffness::StiffnessSource &stiffness_source(const Scene &scene)
+  {
+    return stiffness::find_source(scene.stiffness.source);
+  }
+
+  void check_stiffness_input(const Scene &scene)
+  {
+    stiffness_source(scene).check(stiffness_input(scene));
+  }
+
+  stiffness::StiffnessResult write_stiffness(const Scene &scene, const RunDirectory &dir,
+                                             const bool write_fields, PhaseTimer &timer)
+  {
+    const auto &source = stiffness_source(scene);
+    auto        input  = stiffness_input(scene);
+    input.fe.mesh_dir  = dir.path() / "mesh";
+    if (write_fields && source.uses_fe())
+      input.fe.fields_dir = dir.path() / "fields";
+    auto result = source.compute(input, timer);
+    // No new table beside the fields of an older one.
+    if (stiffness::is_writing_process() && input.fe.fields_dir.empty())
+      fs::remove_all(dir.path() / "fields");
+    if (stiffness::is_writing_process())
+      {
+        PhaseTimer::Scope scope(timer, "write stiffness");
+        nlohmann::json    json = stiffness::stiffness_json(result);
+        json.update(provenance(scene));
+        dir.write_text("stiffness.csv", stiffness::stiffness_csv(result));
+        dir.write_json("stiffness.json", json);
+        // The fields folder appears complete, after the tables, or not at all.
+        commit_fields(result.fields_partial_dir, input.fe.fields_dir);
+      }
+    return result;
+  }
+} // namespace hertzgear

@@ -1,0 +1,130 @@
+#include "common/fourier_series.h"
+
+#include "common/errors.h"
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace hertzgear
+{
+  double FourierSeries::value(const double theta) const
+  {
+    double y = mean;
+    for (unsigned int j = 0; j < amplitudes.size(); ++j)
+      y += amplitudes[j] * std::cos((j + 1) * theta - phases_rad[j]);
+    return y;
+  }
+
+  double FourierSeries::derivative(const double theta) const
+  {
+    double d = 0.0;
+    for (unsigned int j = 0; j < amplitudes.size(); ++j)
+      d -= (j + 1) * amplitudes[j] * std::sin((j + 1) * theta - phases_rad[j]);
+    return d;
+  }
+
+  double FourierSeries::at_phase(const double phase_cycles) const
+  {
+    return value(2.0 * M_PI * phase_cycles);
+  }
+
+  double FourierSeries::amplitude_bound() const
+  {
+    double b = 0.0;
+    for (const double a : amplitudes)
+      b += std::abs(a);
+    return b;
+  }
+
+  FourierSeries FourierSeries::scaled(const double factor) const
+  {
+    FourierSeries s = *this;
+    s.mean *= factor;
+    for (double &a : s.amplitudes)
+      a *= factor;
+    s.residual_rms *= std::abs(factor);
+    return s;
+  }
+
+  FourierSeries fit_fourier_series(const std::vector<double> &phase_cycles,
+                                   const std::vector<double> &samples,
+                                   const unsigned int         n_harmonics)
+  {
+    const std::size_t n_samples = samples.size();
+    HG_REQUIRE_INPUT(phase_cycles.size() == n_samples, "Fourier fit: ", phase_cycles.size(),
+                     " phases for ", n_samples, " samples");
+    HG_REQUIRE_INPUT(n_samples >= 2 * n_harmonics + 1, "Fourier fit: ", n_samples,
+                     " samples are too few for ", n_harmonics,
+                     " harmonics; at least 2 harmonics + 1 = ", 2 * n_harmonics + 1,
+                     " samples per cycle are needed");
+
+    // Columns: 1, cos(j theta), sin(j theta): c cos + s sin = A cos(j theta - phi) with
+    // A = hypot(c, s), phi = atan2(s, c).
+    const Eigen::Index n_cols = 1 + 2 * static_cast<Eigen::Index>(n_harmonics);
+    Eigen::MatrixXd    basis(static_cast<Eigen::Index>(n_samples), n_cols);
+    Eigen::VectorXd    y(static_cast<Eigen::Index>(n_samples));
+    for (std::size_t k = 0; k < n_samples; ++k)
+      {
+        const Eigen::Index row   = static_cast<Eigen::Index>(k);
+        const double       theta = 2.0 * M_PI * phase_cycles[k];
+        basis(row, 0)            = 1.0;
+        for (unsigned int j = 1; j <= n_harmonics; ++j)
+          {
+            basis(row, 2 * j - 1) = std::cos(j * theta);
+            basis(row, 2 * j)     = std::sin(j * theta);
+          }
+        y(row) = samples[k];
+      }
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(basis);
+    HG_REQUIRE_INPUT(qr.rank() == n_cols, "Fourier fit: the ", n_samples,
+                     " phases do not determine ", n_harmonics, " harmonics (repeated phases?)");
+    const Eigen::VectorXd coefficients = qr.solve(y);
+
+    FourierSeries series;
+    series.mean = coefficients(0);
+    for (unsigned int j = 1; j <= n_harmonics; ++j)
+      {
+        const double c = coefficients(2 * j - 1), s = coefficients(2 * j);
+        series.amplitudes.push_back(std::hypot(c, s));
+        series.phases_rad.push_back(std::atan2(s, c));
+      }
+    series.residual_rms = std::sqrt((basis * coefficients - y).squaredNorm() / n_samples);
+    return series;
+  }
+
+  FourierSeries fit_fourier_series(const std::vector<double> &uniform_samples,
+                                   const unsigned int         n_harmonics)
+  {
+    std::vector<double> phases(uniform_samples.size());
+    for (std::size_t k = 0; k < phases.size(); ++k)
+      phases[k] = double(k) / phases.size();
+    return fit_fourier_series(phases, uniform_samples, n_harmonics);
+  }
+
+  nlohmann::json fourier_series_json(const FourierSeries &s, const bool with_residual)
+  {
+    nlohmann::json j = {{"mean", s.mean}, {"amplitudes", s.amplitudes}, {"phases_rad", s.phases_rad}};
+    if (with_residual)
+      j["residual_rms"] = s.residual_rms;
+    return j;
+  }
+
+  FourierSeries fourier_series_from_json(const nlohmann::json &j, const std::string &where)
+  {
+    HG_REQUIRE_INPUT(j.is_object(), where, ": expected an object with mean, amplitudes, phases_rad");
+    HG_REQUIRE_INPUT(j.contains("mean"), where, ": missing key 'mean'");
+    FourierSeries s;
+    s.mean = j.at("mean").get<double>();
+    if (j.contains("amplitudes"))
+      s.amplitudes = j.at("amplitudes").get<std::vector<double>>();
+    if (j.contains("phases_rad"))
+      s.phases_rad = j.at("phases_rad").get<std::vector<double>>();
+    if (s.phases_rad.empty())
+      s.phases_rad.assign(s.amplitudes.size(), 0.0);
+    HG_REQUIRE_INPUT(s.phases_rad.size() == s.amplitudes.size(), where, ": ",
+                     s.amplitudes.size(), " amplitudes but ", s.phases_rad.size(), " phases");
+    return s;
+  }
+} // namespace hertzgear

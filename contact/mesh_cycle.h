@@ -1,0 +1,187 @@
+#pragma once
+// Loaded tooth contact analysis (TCA) over one mesh cycle with the hybrid finite-element /
+// half-space method (docs/theory-tca.md):
+//
+//   C_ij = sum_bodies [ C_FE(i*, j) + C_B(i, j) - C_B(i*, j) ]
+//
+// C_FE is the structural compliance of a body between flank points, read at a reference depth d
+// below the surface (i* = the point at depth d under i); C_B is the Boussinesq-Love half-space
+// compliance, whose surface-minus-depth difference restores the local (Hertzian) deformation the
+// FE mesh cannot resolve. Per mesh position the discrete contact problem (gap from the unloaded
+// kinematics, pressures >= 0, load balance) is solved exactly; the Hertzian (local) part of the
+// approach is separated from the total, and k_h, k_total, k_rest, STE and load sharing are fitted
+// by Fourier series over the cycle.
+//
+// Units inside: mm, N, MPa (so compliances are mm/N and pressures MPa).
+#include "contact/contact_solver.h"
+#include "common/fourier_series.h"
+#include "common/material.h"
+#include "meshing/pair_kinematics.h"
+
+#include <Eigen/Dense>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hertzgear::contact
+{
+  // A material point of a drive flank: tooth index relative to the tooth of pair 0 (pair j uses
+  // pinion tooth +j and gear tooth -j), roll distance from the body's own base tangent point
+  // (the involute parameter r_b u, i.e. the radius of curvature there) and face position
+  // (0 = mid-face).
+  struct FlankPoint
+  {
+    int    tooth   = 0;
+    double roll_mm = 0;
+    double z_mm    = 0;
+  };
+
+  // Offset of flank point a from flank point b of one flank in its developed surface [mm]:
+  // across the profile the involute arc length between the roll distances, (s_a^2 - s_b^2) /
+  // (2 r_b) (the arc length from the base circle is s^2 / (2 r_b)); along the face z_a - z_b.
+  inline Eigen::Vector2d developed_offset_mm(const FlankPoint &a, const FlankPoint &b,
+                                             const double base_radius_mm)
+  {
+    return {(a.roll_mm * a.roll_mm - b.roll_mm * b.roll_mm) / (2.0 * base_radius_mm),
+            a.z_mm - b.z_mm};
+  }
+
+  // Structural compliance of one body between its flank points: displacement [mm] of `reading`,
+  // taken at the reference depth below the flank and along the inward flank normal, per unit
+  // normal force [N] pressing on the flank at `load`. Positive: the flank recedes.
+  class FlankCompliance
+  {
+  public:
+    virtual ~FlankCompliance() = default;
+    virtual double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const = 0;
+    // The depth d [mm] below the surface at which readings are taken.
+    virtual double reference_depth_mm() const = 0;
+    // Whether the compliance of this tooth's flank is known (a tabulated body covers the teeth
+    // of its sector that can be loaded).
+    virtual bool covers_tooth(int /*tooth*/) const { return true; }
+  };
+
+  // An infinitely stiff body (no structural compliance): with it, the TCA keeps only the local
+  // half-space part, and with a very stiff material it returns the unloaded kinematics.
+  class RigidFlankCompliance : public FlankCompliance
+  {
+  public:
+    explicit RigidFlankCompliance(double reference_depth_mm) : depth(reference_depth_mm) {}
+    double compliance_mm_per_N(const FlankPoint &, const FlankPoint &) const override { return 0; }
+    double reference_depth_mm() const override { return depth; }
+
+  private:
+    double depth;
+  };
+
+  // A body whose teeth do not feel each other's loads: the compliance of `body` between points
+  // of the same tooth, zero between different teeth (Stiffness/tooth_coupling = decoupled).
+  class DecoupledFlankCompliance : public FlankCompliance
+  {
+  public:
+    explicit DecoupledFlankCompliance(const FlankCompliance &body) : base(body) {}
+    double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const override
+    {
+      return reading.tooth == load.tooth ? base.compliance_mm_per_N(reading, load) : 0.0;
+    }
+    double reference_depth_mm() const override { return base.reference_depth_mm(); }
+    bool   covers_tooth(const int tooth) const override { return base.covers_tooth(tooth); }
+
+  private:
+    const FlankCompliance &base;
+  };
+
+  struct MeshCycleSettings
+  {
+    unsigned int n_positions   = 16;  // S, uniformly over one mesh cycle
+    unsigned int n_harmonics   = 4;   // of the Fourier fits
+    unsigned int profile_cells = 24;  // across the contact band, per pair
+    unsigned int face_cells    = 16;  // along the face width, per pair (1 for plane strain)
+    // Half-width of the contact band across the profile [mm]; 0 = automatic: three times the
+    // Hertz half-width of the whole load on one pair at the pitch point.
+    double band_half_width_mm = 0;
+    double hertz_exponent     = 1.5;  // n of F = k_h delta^n
+    double tangent_step       = 0.02; // relative load step of the tangent stiffness
+    bool   plane_strain       = false;
+    // Pairs whose contact line lies up to this many base pitches outside the path of contact are
+    // included (extended contact near the tips under load); their gap decides whether they touch.
+    double extended_contact_pitches = 0.0;
+    unsigned int max_contact_iterations = 100; // of the active-set solver, per solve
+  };
+
+  struct PairState
+  {
+    int    pair            = 0;
+    double roll_mm         = 0; // pinion roll distance of the contact line
+    double force_N         = 0;
+    double load_share      = 0;
+    double hertz_penetration_mm = 0; // local (half-space minus depth) part of the approach
+    double contact_a_mm    = 0; // semi-axis across the profile
+    double contact_b_mm    = 0; // semi-axis along the face width
+    double peak_pressure_MPa = 0;
+  };
+
+  struct PositionResult
+  {
+    double                 mesh_phase = 0; // in cycles
+    double                 ste_mm     = 0; // loaded STE along the line of action
+    double                 unloaded_ste_mm = 0; // of the discrete flanks, no load
+    double                 approach_mm     = 0; // elastic approach (loaded - unloaded STE)
+    double                 k_total_secant_N_per_mm  = 0;
+    double                 k_total_tangent_N_per_mm = 0;
+    double                 hertz_penetration_mm = 0; // load-weighted over the pairs
+    double                 k_hertz              = 0; // N/mm^n: F = k_h delta_h^n
+    double                 k_rest_N_per_mm      = 0; // 1/k_rest = 1/k_tangent - 1/k_h,tangent
+    std::vector<PairState> pairs;
+    unsigned int           n_cells = 0, n_active = 0, n_iterations = 0;
+
+    // The contact grid and its solution, for fields and pressure maps: per cell the pair, the
+    // surface coordinate across the profile [mm], the face position [mm] and the pressure [MPa].
+    std::vector<int>    cell_pair;
+    std::vector<double> cell_u_mm, cell_z_mm, cell_pressure_MPa;
+    // Where each cell sits on the flanks (roll distances of the pinion and the gear point; the
+    // pinion tooth is +pair, the gear tooth -pair) and its area [mm^2].
+    std::vector<double> cell_pinion_roll_mm, cell_gear_roll_mm, cell_area_mm2;
+  };
+
+  struct MeshCycleResult
+  {
+    std::vector<PositionResult> positions;
+    FourierSeries               k_hertz, k_total, ste_mm;
+    double                      mean_k_rest_N_per_mm = 0;
+    double                      band_half_width_mm   = 0;
+    double                      load_N               = 0;
+  };
+
+  class MeshCycle
+  {
+  public:
+    MeshCycle(const meshing::PairKinematics &kinematics, const Material &pinion_material,
+              const Material &gear_material, const FlankCompliance &pinion_compliance,
+              const FlankCompliance &gear_compliance, const MeshCycleSettings &settings);
+
+    // Load along the line of action [N] (F_0 = T_1 / r_b1). `progress` is called after every
+    // position with its index and result.
+    MeshCycleResult
+    run(double load_N,
+        const std::function<void(unsigned int, const PositionResult &)> &progress = {}) const;
+
+    // One mesh position (public for tests).
+    PositionResult solve_position(double mesh_phase, double load_N) const;
+
+    // Half-width of the contact band across the profile [mm] at this load.
+    double band_half_width(double load_N) const;
+
+  private:
+    struct Grid;
+    Grid             build_grid(double mesh_phase, double band_half_width_mm) const;
+    ContactSolution  solve_contact(const Grid &grid, double load_N) const;
+
+    const meshing::PairKinematics &kinematics;
+    Material                   materials[2];
+    const FlankCompliance         *compliances[2];
+    MeshCycleSettings              settings;
+  };
+} // namespace hertzgear::contact

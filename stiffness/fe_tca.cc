@@ -1,0 +1,666 @@
+#include "stiffness/fe_tca.h"
+
+#include "common/atomic_file.h"
+#include "common/errors.h"
+#include "common/progress.h"
+#include "contact/mesh_cycle.h"
+#include "fem/body_fields.h"
+#include "fem/flank_compliance.h"
+#include "fem/mpi_root.h"
+#include "meshing/pair_kinematics.h"
+#include "stiffness/processes.h"
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/tria.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <memory>
+#include <sstream>
+
+namespace hertzgear::stiffness
+{
+  namespace fs = std::filesystem;
+
+  namespace
+  {
+    // Largest spacing of the 3D compliance table's face nodes, as a multiple of the reference
+    // depth d (table_face_nodes = 0). Measured on the paper's crowned pair
+    // (docs/accuracy-stiffness.md, "Nodes of the compliance table, and its half-space split").
+    constexpr double face_node_spacing_per_depth = 0.5;
+    // The same with the half-space split of the table, which interpolates only the remainder: at
+    // spacing d the single-pair stiffness is within 0.2 % and the contact within 0.3 % of d/4
+    // (the same study).
+    constexpr double face_node_spacing_per_depth_split = 1.0;
+
+    struct Body
+    {
+      virtual ~Body() = default;
+      virtual const contact::FlankCompliance &compliance() const = 0;
+      virtual std::size_t                     n_dofs() const     = 0;
+      // Displacement and stress of the body under the contact pressures of every position
+      // (collective; one block substitution for all); returns the .pvtu names, file i for
+      // positions[i]. `force_scale` turns p A [N] into the FE body's load (1/b for the
+      // unit-thickness plane-strain body).
+      virtual std::vector<std::string> write_fields(const std::vector<contact::PositionResult> &positions,
+                                                    bool is_gear, double force_scale,
+                                                    const fs::path &dir, const std::string &name) const = 0;
+      // Wall-time breakdown of the FE body (assembly, factorisation, substitutions, ...).
+      virtual const PhaseTimer &timer() const = 0;
+      // The contact-grid cell centres on this body's flank, in its frame (z = 0 in 2D).
+      virtual std::vector<std::array<double, 3>> contact_points(const contact::PositionResult &p,
+                                                                bool is_gear) const = 0;
+    };
+
+    template <int dim>
+    struct BodyModel : Body
+    {
+      // parallel::shared: every rank holds the whole (small, 2D or coarse 3D) mesh and owns a
+      // partition of it; the linear algebra is distributed over MPI_COMM_WORLD.
+      dealii::parallel::shared::Triangulation<dim>         triangulation;
+      std::unique_ptr<fem::ElasticBody<dim>>              body;
+      std::unique_ptr<fem::TabulatedFlankCompliance<dim>> table;
+
+      BodyModel(const fs::path &msh, const Material &material, const FeSettings &fe,
+                const meshing::GearGeometry &gear, const int central, const std::vector<int> &teeth,
+                const fem::FlankTableSettings &table_settings)
+        : triangulation(MPI_COMM_WORLD)
+      {
+        dealii::GridIn<dim> grid_in;
+        grid_in.attach_triangulation(triangulation);
+        std::ifstream in(msh);
+        HG_REQUIRE_INPUT(in.good(), "cannot read mesh ", msh.string());
+        grid_in.read_msh(in);
+        // A sector is held at the bore and at both radial cuts: free cuts would let the sector
+        // swing as a cantilevered wedge, far more compliant than the full disc it stands for
+        // (docs/theory-tca.md quantifies the difference against a full-gear mesh).
+        namespace tag = meshing::physical_tag;
+        for (const auto &face : triangulation.active_face_iterators())
+          if (face->at_boundary() &&
+              (face->boundary_id() == tag::sector_cut_start || face->boundary_id() == tag::sector_cut_end))
+            face->set_boundary_id(tag::bore);
+
+        typename fem::ElasticBody<dim>::Parameters p;
+        p.youngs_modulus          = material.youngs_modulus_MPa;
+        p.poisson_ratio           = material.poisson_ratio;
+        p.fe_degree               = fe.degree;
+        p.mapping_degree          = 1; // gmsh's straight-sided cells: no curved manifold attached
+        p.clamped_boundary_id     = tag::bore;
+        p.linear_solver           = fem::ElasticBody<dim>::parse_linear_solver(fe.linear_solver);
+        p.linear_solver_tolerance = fe.linear_solver_tolerance;
+        body = std::make_unique<fem::ElasticBody<dim>>(triangulation, p);
+        std::set<dealii::types::boundary_id> flanks;
+        for (const int t : teeth)
+          flanks.insert(static_cast<dealii::types::boundary_id>(tag::drive_flank + central + t));
+        body->set_load_boundary_ids(flanks);
+        body->run();
+        fem::FlankTableSettings s = table_settings;
+        s.teeth                  = teeth;
+        table = std::make_unique<fem::TabulatedFlankCompliance<dim>>(*body, gear, central, s);
+      }
+      const contact::FlankCompliance &compliance() const override { return *table; }
+      std::size_t                     n_dofs() const override { return body->n_dofs(); }
+
+      contact::FlankPoint flank_point(const contact::PositionResult &p, const std::size_t k,
+                                      const bool is_gear) const
+      {
+        return is_gear ? contact::FlankPoint{-p.cell_pair[k], p.cell_gear_roll_mm[k], p.cell_z_mm[k]} :
+                         contact::FlankPoint{p.cell_pair[k], p.cell_pinion_roll_mm[k], p.cell_z_mm[k]};
+      }
+
+      std::vector<std::string> write_fields(const std::vector<contact::PositionResult> &positions,
+                                            const bool is_gear, const double force_scale,
+                                            const fs::path &dir, const std::string &name) const override
+      {
+        std::vector<std::vector<typename fem::ElasticBody<dim>::PatchLoad>> loads(positions.size());
+        std::vector<std::vector<double>>                                    forces(positions.size());
+        for (std::size_t i = 0; i < positions.size(); ++i)
+          {
+            const auto &p = positions[i];
+            for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+              if (p.cell_pressure_MPa[k] > 0)
+                {
+                  loads[i].push_back(table->patch_load(flank_point(p, k, is_gear)));
+                  forces[i].push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k] * force_scale);
+                }
+          }
+        const auto               u = body->solve_patch_load_sets(loads, forces);
+        std::vector<std::string> files;
+        for (std::size_t i = 0; i < positions.size(); ++i)
+          files.push_back(fem::write_body_fields(*body, u[i], dir, name, i));
+        return files;
+      }
+
+      const PhaseTimer &timer() const override { return body->get_timer(); }
+
+      std::vector<std::array<double, 3>> contact_points(const contact::PositionResult &p,
+                                                        const bool is_gear) const override
+      {
+        std::vector<std::array<double, 3>> points;
+        for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+          {
+            const auto load = table->patch_load(flank_point(p, k, is_gear));
+            std::array<double, 3> x{0, 0, 0};
+            for (unsigned int c = 0; c < dim; ++c)
+              x[c] = load.centre[c];
+            points.push_back(x);
+          }
+        return points;
+      }
+    };
+
+    double roll_at_radius(const meshing::GearGeometry &g, const double r)
+    {
+      return std::sqrt(std::max(0.0, r * r - g.base_radius_mm() * g.base_radius_mm()));
+    }
+
+    double seconds_since(const std::chrono::steady_clock::time_point t0)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+
+    // The rows, fits and table of a mesh cycle (N, mm inside; SI and the units of the row names
+    // outside).
+    StiffnessResult result_of_cycle(const contact::MeshCycleResult &cycle, const double n,
+                                    const int harmonics)
+    {
+      StiffnessResult r;
+      r.load_N              = cycle.load_N;
+      r.harmonics           = harmonics;
+      r.k_total_N_per_m     = cycle.k_total.scaled(1e3);
+      r.ste_m               = cycle.ste_mm.scaled(1e-3);
+      r.mean_k_rest_N_per_m = cycle.mean_k_rest_N_per_mm * 1e3;
+      auto &t               = r.table;
+      t.hertz_exponent      = n;
+      t.source              = "hertzgear stiffness (FE/half-space TCA)";
+      t.k_hertz_N_per_m_pow_n = cycle.k_hertz.scaled(std::pow(1.0e3, n));
+      std::vector<double> k_rest, unloaded;
+      for (const auto &p : cycle.positions)
+        {
+          t.samples.mesh_phase.push_back(p.mesh_phase);
+          t.samples.k_total_N_per_m.push_back(p.k_total_secant_N_per_mm * 1e3);
+          t.samples.k_hertz_N_per_m_pow_n.push_back(p.k_hertz * std::pow(1e3, n));
+          t.samples.k_rest_N_per_m.push_back(p.k_rest_N_per_mm * 1e3);
+          t.samples.ste_m.push_back(p.ste_mm * 1e-3);
+          t.samples.unloaded_ste_m.push_back(p.unloaded_ste_mm * 1e-3);
+          k_rest.push_back(p.k_rest_N_per_mm);
+          unloaded.push_back(p.unloaded_ste_mm);
+
+          PositionRow row;
+          const contact::PairState *main_pair = nullptr;
+          int                       n_loaded  = 0;
+          row.load_share_1 = 0.0;
+          row.load_share_2 = 0.0;
+          for (const auto &pair : p.pairs)
+            {
+              // Pair 1 is the pair that entered at phase 0, pair 2 the one ahead of it.
+              if (pair.pair == 0)
+                row.load_share_1 = pair.load_share;
+              if (pair.pair == 1)
+                row.load_share_2 = pair.load_share;
+              n_loaded += pair.load_share > 0;
+              if (!main_pair || pair.force_N > main_pair->force_N)
+                main_pair = &pair;
+            }
+          row.mesh_phase            = p.mesh_phase;
+          row.ste_um                = p.ste_mm * 1e3;
+          row.k_total_N_per_m       = p.k_total_secant_N_per_mm * 1e3;
+          row.k_hertz_N_per_m_pow_n = p.k_hertz * std::pow(1e3, n);
+          row.k_rest_N_per_m        = p.k_rest_N_per_mm * 1e3;
+          row.pairs_in_contact      = n_loaded;
+          row.hertz_penetration_um  = p.hertz_penetration_mm * 1e3;
+          row.contact_a_mm          = main_pair->contact_a_mm;
+          row.contact_b_mm          = main_pair->contact_b_mm;
+          row.peak_pressure_MPa     = main_pair->peak_pressure_MPa;
+          r.rows.push_back(row);
+        }
+      const auto &phases = t.samples.mesh_phase;
+      const auto  H      = static_cast<unsigned int>(harmonics);
+      t.k_rest_N_per_m   = fit_fourier_series(phases, k_rest, H).scaled(1e3);
+      t.unloaded_ste_m   = fit_fourier_series(phases, unloaded, H).scaled(1e-3);
+      t.has_unloaded_ste = true;
+      t.check();
+      return r;
+    }
+
+    // One FE/half-space TCA, phase by phase; run() reads as the algorithm.
+    class FeTcaRun
+    {
+    public:
+      FeTcaRun(const StiffnessInput &input, PhaseTimer &timer)
+        : input(input), fe(input.fe), timer(timer), dim(input.fe.dimension),
+          mesh(fe_mesh_settings(input.fe))
+      {}
+
+      StiffnessResult run()
+      {
+        make_kinematics();
+        choose_loaded_teeth();
+        set_table_settings();
+        fem::on_root(MPI_COMM_WORLD, [&] { fs::create_directories(fe.mesh_dir); });
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            make_mesh(b);
+            make_body_and_compliance_table(b);
+          }
+        solve_contact_cycle();
+        solve_extra_contact_grids();
+        if (!fe.fields_dir.empty())
+          write_fields();
+        return fit();
+      }
+
+    private:
+      const StiffnessInput &input;
+      const FeSettings     &fe;
+      PhaseTimer           &timer;
+      const int             dim;
+      const meshing::MeshSettings mesh;
+
+      std::unique_ptr<meshing::PairKinematics> kin;
+      double                                   load_N = 0;
+      std::vector<int>                         teeth[2]; // loaded teeth of pinion and gear
+      fem::FlankTableSettings                  table;
+      int                                      central[2] = {0, 0};
+      double                                   band_max_edge_mm[2] = {0, 0};
+      std::unique_ptr<Body>                    bodies[2];
+      std::size_t                              n_dofs_total = 0;
+      nlohmann::json                           body_notes   = nlohmann::json::object();
+      contact::MeshCycleSettings               cycle_settings;
+      contact::MeshCycleResult                 cycle;
+      std::vector<contact::MeshCycleResult>    extra_cycles;
+      double                                   cycle_time_s = 0;
+      std::vector<double>                      extra_cycle_time_s;
+      fs::path                                 fields_partial_dir;
+
+      static std::string body_name(const unsigned int b) { return b == 0 ? "pinion" : "gear"; }
+
+      void make_kinematics()
+      {
+        PhaseTimer::Scope scope(timer, "geometry");
+        kin    = std::make_unique<meshing::PairKinematics>(input.pair);
+        load_N = input.torque_Nm * 1.0e3 / kin->pinion().base_radius_mm();
+      }
+
+      // Which teeth can carry load: pair j uses pinion tooth +j and gear tooth -j, and pairs
+      // 0 .. ceil(eps) - 1 meet the path of contact during one cycle (unloaded teeth need no
+      // column in the compliance table).
+      void choose_loaded_teeth()
+      {
+        const int n_pairs = static_cast<int>(std::ceil(kin->contact_ratio()));
+        // A body meshed as a sector has teeth 0 .. N-1 with the central one N/2; a full gear has all.
+        const auto has_tooth = [&](const int z, const int relative) {
+          const int n_sector = fe.teeth_per_sector;
+          if (n_sector >= z)
+            return true;
+          const int k = n_sector / 2 + relative;
+          return k >= 0 && k < n_sector;
+        };
+        for (int j = 0; j < n_pairs; ++j)
+          if (has_tooth(input.pair.pinion.teeth, j) && has_tooth(input.pair.gear.teeth, -j))
+            {
+              teeth[0].push_back(j);
+              teeth[1].push_back(-j);
+            }
+        if (static_cast<int>(teeth[0].size()) != n_pairs)
+          throw ParameterError("teeth_per_sector",
+                               msg(fe.teeth_per_sector, " is too few: the contact ratio ",
+                                   kin->contact_ratio(), " needs ", n_pairs,
+                                   " loaded teeth on each side of the sector's centre; use at least ",
+                                   2 * n_pairs + 1));
+      }
+
+      void set_table_settings()
+      {
+        table.reference_depth_mm = fe_reference_depth_mm(fe, kin->pinion().module_mm());
+        table.patch_radius_mm    = 0.5 * table.reference_depth_mm;
+        table.n_face             = 1; // 3D: per body, from its face width
+        table.split_half_space   = dim == 3 && fe.table_half_space_split;
+      }
+
+      void make_mesh(const unsigned int b)
+      {
+        const auto       &gear = kin->body(b);
+        const std::string name = body_name(b);
+        PhaseTimer::Scope scope(timer, "mesh " + name);
+        // gmsh runs on rank 0 only; the others read its file.
+        fem::on_root(MPI_COMM_WORLD, [&] {
+          meshing::GearBodyMesher mesher;
+          const auto quality  = mesher.mesh(gear, mesh, active_start_radius_mm(b), msh_file(b));
+          central[b]          = quality.central_tooth;
+          band_max_edge_mm[b] = quality.contact_band_max_edge_mm;
+          progress_line("stiffness", name + " mesh: " + std::to_string(quality.n_elements) +
+                                       " elements, " + std::to_string(quality.n_nodes) + " nodes" +
+                                       (quality.full_gear ? " (full gear)" : ""));
+        });
+        if (n_processes() > 1)
+          {
+            central[b] = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, central[b], 0);
+            band_max_edge_mm[b] =
+              dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, band_max_edge_mm[b], 0);
+          }
+      }
+
+      double active_start_radius_mm(const unsigned int b) const
+      {
+        return b == 0 ? kin->point('A').radius_pinion_mm : kin->point('E').radius_gear_mm;
+      }
+      fs::path msh_file(const unsigned int b) const { return fe.mesh_dir / (body_name(b) + ".msh"); }
+
+      // The compliance table of one body: its roll nodes over the active profile (where the
+      // mesher refines the band; grid cells just outside it take the value of the nearest node)
+      // and its face nodes.
+      fem::FlankTableSettings body_table_settings(const unsigned int b) const
+      {
+        const auto             &gear = kin->body(b);
+        fem::FlankTableSettings s    = table;
+        s.roll_min_mm = roll_at_radius(gear, active_start_radius_mm(b)) + table.patch_radius_mm;
+        s.roll_max_mm = roll_at_radius(gear, gear.tip_radius_mm()) - table.patch_radius_mm;
+        s.n_roll      = std::max(8u, static_cast<unsigned int>(
+                                      std::ceil((s.roll_max_mm - s.roll_min_mm) /
+                                                table.reference_depth_mm)) + 1);
+        if (fe.table_roll_nodes > 0)
+          s.n_roll = static_cast<unsigned int>(fe.table_roll_nodes);
+        if (dim == 3)
+          {
+            // Along the face the structural compliance read at depth d peaks over a width of
+            // about d; bilinear interpolation between nodes much farther apart flattens the peak
+            // and so lengthens the structural influence, which concentrates a crowned contact
+            // (docs/accuracy-stiffness.md). The split table takes that peak from the half-space
+            // exactly, and its remainder needs nodes about d apart; the unsplit one needs them
+            // d/2 apart.
+            const double span    = gear.face_width_mm() - 2 * table.patch_radius_mm;
+            const double spacing = (table.split_half_space ? face_node_spacing_per_depth_split :
+                                                             face_node_spacing_per_depth) *
+                                   table.reference_depth_mm;
+            s.n_face = fe.table_face_nodes > 0 ?
+                         static_cast<unsigned int>(fe.table_face_nodes) :
+                         std::max(2u, static_cast<unsigned int>(std::ceil(span / spacing - 1e-9)) + 1);
+          }
+        return s;
+      }
+
+      void make_body_and_compliance_table(const unsigned int b)
+      {
+        const std::string name = body_name(b);
+        PhaseTimer::Scope scope(timer, "FE compliance " + name);
+        const auto        s  = body_table_settings(b);
+        const auto        t0 = std::chrono::steady_clock::now();
+        try
+          {
+            const Material &m = b == 0 ? input.pinion_material : input.gear_material;
+            if (dim == 2)
+              bodies[b] = std::make_unique<BodyModel<2>>(msh_file(b), m, fe, kin->body(b), central[b],
+                                                         teeth[b], s);
+            else
+              bodies[b] = std::make_unique<BodyModel<3>>(msh_file(b), m, fe, kin->body(b), central[b],
+                                                         teeth[b], s);
+          }
+        catch (const fem::PatchOffMeshError &e)
+          {
+            throw ParameterError("level", too_coarse_message(b, s, e.what()));
+          }
+        n_dofs_total += bodies[b]->n_dofs();
+        report_body(b, s, seconds_since(t0));
+      }
+
+      // The user did not ask for patches; say which settings make the mesh too coarse.
+      std::string too_coarse_message(const unsigned int b, const fem::FlankTableSettings &s,
+                                     const std::string &why) const
+      {
+        const auto        &gear = kin->body(b);
+        std::ostringstream os;
+        os << fe.level << ": the FE mesh of the " << body_name(b)
+           << " is too coarse for the contact band: the load patches of the compliance table have "
+           << "a radius of " << s.patch_radius_mm << " mm (half of {reference_depth_mm}; the band "
+           << "element size is " << mesh.band_element_size_mm(kin->pinion().module_mm())
+           << " mm at this level), but the flank elements are up to " << band_max_edge_mm[b]
+           << " mm long across the profile";
+        if (dim == 3)
+          os << " and "
+             << gear.face_width_mm() / (mesh.face_width_layers * std::ldexp(1.0, mesh.refinement_level))
+             << " mm along the face (face width / ({face_width_layers} = " << fe.face_width_layers
+             << " x 2^level))";
+        os << ", so a patch can fall between the quadrature points of a face. Raise "
+           << (dim == 3 ? "{face_width_layers} or " : "") << "{level}, or {reference_depth_mm}. ("
+           << why << ")";
+        return os.str();
+      }
+
+      void report_body(const unsigned int b, const fem::FlankTableSettings &s, const double dt)
+      {
+        const std::size_t  load_cases = teeth[b].size() * s.n_roll * s.n_face;
+        std::ostringstream line;
+        line << body_name(b) << " FE: " << bodies[b]->n_dofs() << " DOFs, " << load_cases
+             << " load cases, " << std::fixed << std::setprecision(2) << dt << " s";
+        nlohmann::json breakdown = nlohmann::json::object();
+        line << " (";
+        for (const auto &[phase, seconds] : bodies[b]->timer().phases())
+          {
+            line << (breakdown.empty() ? "" : ", ") << phase << " " << seconds;
+            breakdown[phase] = seconds;
+          }
+        line << " s)";
+        progress_line("stiffness", line.str());
+        body_notes[body_name(b)] = {{"dofs", bodies[b]->n_dofs()},
+                                    {"load_cases", load_cases},
+                                    {"table_roll_nodes", s.n_roll},
+                                    {"table_face_nodes", s.n_face},
+                                    {"wall_time_s", dt},
+                                    {"wall_time_breakdown_s", breakdown}};
+      }
+
+      const contact::FlankCompliance &compliance(const unsigned int b) const
+      {
+        return bodies[b]->compliance();
+      }
+
+      contact::MeshCycleResult solve_cycle(const contact::MeshCycleSettings &cs, const bool progress) const
+      {
+        // Decoupled teeth: the study of what the coupling of loaded teeth does.
+        const contact::DecoupledFlankCompliance decoupled_pinion(compliance(0)), decoupled_gear(compliance(1));
+        const contact::FlankCompliance &c0 =
+          fe.decoupled_teeth ? static_cast<const contact::FlankCompliance &>(decoupled_pinion) : compliance(0);
+        const contact::FlankCompliance &c1 =
+          fe.decoupled_teeth ? static_cast<const contact::FlankCompliance &>(decoupled_gear) : compliance(1);
+        const contact::MeshCycle mesh_cycle(*kin, input.pinion_material, input.gear_material, c0, c1, cs);
+        if (!progress)
+          return mesh_cycle.run(load_N);
+        auto t0 = std::chrono::steady_clock::now();
+        return mesh_cycle.run(load_N, [&](unsigned int i, const contact::PositionResult &p) {
+          std::ostringstream line;
+          line << "position " << i + 1 << "/" << cs.n_positions << "  phase " << std::fixed
+               << std::setprecision(3) << p.mesh_phase << "  STE " << std::setprecision(3)
+               << p.ste_mm * 1e3 << " um  k_total " << std::setprecision(1)
+               << p.k_total_secant_N_per_mm * 1e-3 << " N/um  pairs " << p.pairs.size()
+               << "  active cells " << p.n_active << "/" << p.n_cells << "  ("
+               << std::setprecision(2) << seconds_since(t0) << " s)";
+          progress_line("stiffness", line.str());
+          t0 = std::chrono::steady_clock::now();
+        });
+      }
+
+      void solve_contact_cycle()
+      {
+        auto &cs          = cycle_settings;
+        cs.n_positions    = static_cast<unsigned int>(input.positions_per_cycle);
+        cs.n_harmonics    = static_cast<unsigned int>(input.harmonics);
+        cs.profile_cells  = static_cast<unsigned int>(fe.contact_grid_profile_cells);
+        cs.face_cells     = static_cast<unsigned int>(fe.contact_grid_face_cells);
+        cs.hertz_exponent = input.hertz_exponent;
+        cs.plane_strain   = dim == 2;
+        cs.max_contact_iterations = static_cast<unsigned int>(fe.contact_max_iterations);
+        PhaseTimer::Scope scope(timer, "contact over the mesh cycle");
+        const auto        t0 = std::chrono::steady_clock::now();
+        cycle                = solve_cycle(cs, true);
+        cycle_time_s         = seconds_since(t0);
+      }
+
+      // The contact-grid ladder of `hertzgear accuracy stiffness`: the same FE bodies.
+      void solve_extra_contact_grids()
+      {
+        for (const auto &[profile, face] : fe.extra_contact_grids)
+          {
+            PhaseTimer::Scope          scope(timer, "contact over the mesh cycle (grid ladder)");
+            contact::MeshCycleSettings cs = cycle_settings;
+            cs.profile_cells              = static_cast<unsigned int>(profile);
+            cs.face_cells                 = static_cast<unsigned int>(face);
+            const auto t0                 = std::chrono::steady_clock::now();
+            extra_cycles.push_back(solve_cycle(cs, false));
+            extra_cycle_time_s.push_back(seconds_since(t0));
+            std::ostringstream line;
+            line << "contact grid " << profile << " x " << (dim == 2 ? 1 : face) << ": mean k_total "
+                 << std::setprecision(6) << extra_cycles.back().k_total.mean * 1e-3 << " N/um  ("
+                 << std::setprecision(3) << seconds_since(t0) << " s)";
+            progress_line("stiffness", line.str());
+          }
+      }
+
+      void write_fields()
+      {
+        PhaseTimer::Scope scope(timer, "fields");
+        // A hidden partial folder next to the destination; the caller renames it when the
+        // other artifacts are written.
+        std::string partial = temporary_path_for(fe.fields_dir).string();
+        if (n_processes() > 1)
+          partial = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, partial, 0);
+        fem::on_root(MPI_COMM_WORLD, [&] {
+          fs::remove_all(partial);
+          fs::create_directories(partial);
+        });
+        const double force_scale =
+          dim == 2 ? 1.0 / std::min(kin->pinion().face_width_mm(), kin->gear().face_width_mm()) : 1.0;
+        for (unsigned int b = 0; b < 2; ++b)
+          write_body_fields(b, partial, force_scale);
+        fields_partial_dir = partial;
+      }
+
+      void write_body_fields(const unsigned int b, const fs::path &partial, const double force_scale) const
+      {
+        const std::string name = body_name(b);
+        std::vector<std::pair<double, std::string>> fields, contact_files;
+        const auto files = bodies[b]->write_fields(cycle.positions, b == 1, force_scale, partial, name);
+        for (unsigned int i = 0; i < cycle.positions.size(); ++i)
+          {
+            const auto &p = cycle.positions[i];
+            fields.emplace_back(p.mesh_phase, files[i]);
+            const auto        points = bodies[b]->contact_points(p, b == 1);
+            const std::string file = msg(name, "_contact_", std::setw(4), std::setfill('0'), i, ".vtu");
+            contact_files.emplace_back(p.mesh_phase, file);
+            fem::on_root(MPI_COMM_WORLD, [&] {
+              std::vector<double> pair(p.cell_pair.begin(), p.cell_pair.end()), force;
+              for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+                force.push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k]);
+              fem::write_point_cloud_vtu(partial / file, points,
+                                         {{"contact_pressure_MPa", p.cell_pressure_MPa},
+                                          {"cell_force_N", force},
+                                          {"pair", pair}});
+            });
+          }
+        fem::on_root(MPI_COMM_WORLD, [&] {
+          fem::write_pvd(partial / (name + ".pvd"), fields);
+          fem::write_pvd(partial / (name + "_contact.pvd"), contact_files);
+        });
+        progress_line("stiffness", msg(name, " fields: ", fields.size(), " positions"));
+      }
+
+      // The dynamics' table in SI (N/m, N/m^n, m) and the record of the FE settings.
+      StiffnessResult fit() const
+      {
+        StiffnessResult r = result_of_cycle(cycle, input.hertz_exponent, input.harmonics);
+        r.contact_time_s  = cycle_time_s;
+        for (std::size_t k = 0; k < extra_cycles.size(); ++k)
+          {
+            r.extra_grids.push_back(result_of_cycle(extra_cycles[k], input.hertz_exponent, input.harmonics));
+            r.extra_grids.back().contact_time_s = extra_cycle_time_s[k];
+          }
+        r.fields_partial_dir = fields_partial_dir;
+        r.notes_key          = "fe";
+        auto &m              = r.notes;
+        m["bodies"]          = body_notes;
+        m["dimension"]       = dim;
+        m["fe_level"]        = fe.level;
+        m["fe_degree"]       = fe.degree;
+        m["linear_solver"]   = fe.linear_solver;
+        if (fe.linear_solver != "direct")
+          m["linear_solver_tolerance"] = fe.linear_solver_tolerance;
+        if (fe.decoupled_teeth)
+          m["tooth_coupling"] = "decoupled";
+        m["dofs"]                       = n_dofs_total;
+        m["reference_depth_mm"]         = table.reference_depth_mm;
+        m["table_half_space_split"]     = table.split_half_space;
+        m["load_patch_radius_mm"]       = table.patch_radius_mm;
+        m["band_element_size_mm"]       = mesh.band_element_size_mm(kin->pinion().module_mm());
+        m["contact_band_half_width_mm"] = cycle.band_half_width_mm;
+        m["contact_grid"] = {{"profile_cells", cycle_settings.profile_cells},
+                             {"face_cells", dim == 2 ? 1u : cycle_settings.face_cells}};
+        return r;
+      }
+    };
+
+    class FeTcaSource : public StiffnessSource
+    {
+    public:
+      FeTcaSource()
+        : StiffnessSource("fem", "meshing (gmsh) and FE contact over the mesh cycle (deal.II)")
+      {}
+      bool uses_fe() const override { return true; }
+
+      void check(const StiffnessInput &input) const override
+      {
+        const auto &fe = input.fe;
+        if (!(input.torque_Nm > 0))
+          throw ParameterError("torque_Nm", msg(input.torque_Nm, ": the loaded tooth contact "
+                                                                 "analysis needs a positive torque"));
+        if (fe.dimension != 3 && (input.pair.pinion.crowning_mm != 0 || input.pair.gear.crowning_mm != 0))
+          throw ParameterError("dimension", msg(fe.dimension, " cannot represent lead crowning; use 3"));
+        const double module_mm = input.pair.pinion.module_mm;
+        const double depth     = fe_reference_depth_mm(fe, module_mm);
+        if (!(depth <= 0.5 * module_mm))
+          throw ParameterError("reference_depth_mm",
+                               msg(depth, " mm is deeper than half a module (", 0.5 * module_mm,
+                                   " mm): the half-space cannot stand for the local deformation "
+                                   "of a tooth that deep"));
+        if (fe.table_roll_nodes == 1)
+          throw ParameterError("table_roll_nodes", "1: the compliance table needs at least 2 nodes "
+                                                   "across the active profile (0 = automatic)");
+        if (fe.dimension == 3 && fe.table_face_nodes == 1)
+          throw ParameterError("table_face_nodes", "1: a 3D compliance table needs at least 2 "
+                                                   "nodes along the face (0 = automatic)");
+      }
+
+      StiffnessResult compute(const StiffnessInput &input, PhaseTimer &timer) const override
+      {
+        check(input);
+        return FeTcaRun(input, timer).run();
+      }
+    };
+  } // namespace
+
+  meshing::MeshSettings fe_mesh_settings(const FeSettings &fe)
+  {
+    meshing::MeshSettings s;
+    s.dimension         = fe.dimension;
+    s.teeth_per_sector  = fe.teeth_per_sector;
+    s.face_width_layers = fe.face_width_layers;
+    s.refinement_level  = fe.level;
+    return s;
+  }
+
+  double fe_reference_depth_mm(const FeSettings &fe, const double module_mm)
+  {
+    if (fe.reference_depth_mm > 0)
+      return fe.reference_depth_mm;
+    return 3.0 * fe_mesh_settings(fe).band_element_size_mm(module_mm);
+  }
+
+  const StiffnessSource &fe_tca_source() { return the_source<FeTcaSource>(); }
+
+  bool is_writing_process() { return fem::is_root_rank(MPI_COMM_WORLD); }
+  int  n_processes() { return static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)); }
+} // namespace hertzgear::stiffness

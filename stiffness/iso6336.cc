@@ -1,0 +1,45 @@
+#include "stiffness/iso6336.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hertzgear::stiffness
+{
+  namespace
+  {
+    constexpr double pi = 3.14159265358979323846;
+
+    double basic_rack_factor(const meshing::GearParameters &p)
+    {
+      const double alpha_deg = p.pressure_angle_rad * 180 / pi;
+      return (1 + 0.5 * (1.2 - p.dedendum_coefficient)) * (1 - 0.02 * (20 - alpha_deg));
+    }
+  } // namespace
+
+  Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, const double pinion_torque_Nm)
+  {
+    const meshing::GearParameters &p1 = pair.pinion().parameters(), &p2 = pair.gear().parameters();
+    // Spur gears: virtual numbers of teeth z_n = z, helix angle beta = 0.
+    const double z1 = p1.teeth, z2 = p2.teeth;
+    const double x1 = p1.profile_shift_coefficient, x2 = p2.profile_shift_coefficient;
+    // ISO 6336-1:2006, clause 9 (method B): the coefficients C1..C9 of the flexibility q'.
+    constexpr double C1 = 0.04723, C2 = 0.15551, C3 = 0.25791, C4 = -0.00635, C5 = -0.11654,
+                     C6 = -0.00193, C7 = -0.24188, C8 = 0.00529, C9 = 0.00182;
+    Iso6336Stiffness s;
+    s.q_prime_mm_um_per_N = C1 + C2 / z1 + C3 / z2 + C4 * x1 + C5 * x1 / z1 + C6 * x2 +
+                            C7 * x2 / z2 + C8 * x1 * x1 + C9 * x2 * x2;
+    s.c_prime_th_N_per_mm_um = 1 / s.q_prime_mm_um_per_N;
+    s.C_M                    = 0.8;
+    s.C_R                    = 1.0;
+    s.C_B                    = 0.5 * (basic_rack_factor(p1) + basic_rack_factor(p2));
+    const double b           = std::min(p1.face_width_mm, p2.face_width_mm);
+    const double d1          = p1.module_mm * z1;
+    s.line_load_N_per_mm     = 2000 * pinion_torque_Nm / d1 / b;
+    s.load_factor = s.line_load_N_per_mm >= 100 ? 1.0 : std::pow(s.line_load_N_per_mm / 100, 0.25);
+    s.c_prime_N_per_mm_um = s.c_prime_th_N_per_mm_um * s.C_M * s.C_R * s.C_B * s.load_factor;
+    const double eps      = pair.contact_ratio();
+    s.c_gamma_alpha_N_per_mm_um = s.c_prime_N_per_mm_um * (0.75 * eps + 0.25);
+    s.within_validity           = eps >= 1.2;
+    return s;
+  }
+} // namespace hertzgear::stiffness

@@ -1,0 +1,38 @@
+#pragma once
+// Tooth stiffness of ISO 6336-1:2006 (Calculation of load capacity of spur and helical gears,
+// Part 1), clause 9, method B: single stiffness c' and mesh stiffness c_gamma_alpha of a spur
+// pair with solid gear blanks, as an analytic reference and as a stiffness source for dynamics.
+//
+//   q'       = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2 + C8 x1^2 + C9 x2^2
+//              [mm um / N], minimum flexibility of a tooth pair (ISO 6336-1:2006, clause 9, method B)
+//   c'_th    = 1 / q'                                          [N / (mm um)]
+//   c'       = c'_th C_M C_R C_B cos(beta)                       (F_t K_A / b >= 100 N/mm)
+//   c'       = c'_th C_M C_R C_B cos(beta) (F_t K_A / b / 100)^0.25   (below 100 N/mm)
+//   C_M      = 0.8 (theoretical correction factor)
+//   C_R      = 1 + ln(b_s / b) / (5 e^(s_R / (5 m_n))) for webbed blanks, 1 for solid gears
+//   C_B      = [1 + 0.5 (1.2 - h_fP/m_n)] [1 - 0.02 (20 deg - alpha_Pn)], averaged over both
+//              gears when their basic racks differ (basic rack factor)
+//   c_gamma_alpha = c' (0.75 eps_alpha + 0.25)                   (mesh stiffness, eps_alpha >= 1.2)
+#include "meshing/pair_kinematics.h"
+
+namespace hertzgear::stiffness
+{
+  struct Iso6336Stiffness
+  {
+    double q_prime_mm_um_per_N      = 0;
+    double c_prime_th_N_per_mm_um   = 0;
+    double C_M                      = 0;
+    double C_R                      = 0;
+    double C_B                      = 0;
+    double load_factor              = 0; // (F_t K_A / b / 100)^0.25, or 1
+    double c_prime_N_per_mm_um      = 0;
+    double c_gamma_alpha_N_per_mm_um = 0;
+    double line_load_N_per_mm       = 0; // F_t K_A / b used for the load factor
+    // c_gamma_alpha of ISO 6336-1 is defined for eps_alpha >= 1.2; below, it is an extrapolation.
+    bool within_validity = true;
+  };
+
+  // `pinion_torque_Nm` gives F_t = 2000 T1 / d1 on the reference circle (K_A = 1); the face
+  // width is the smaller of both. Solid blanks (C_R = 1).
+  Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, double pinion_torque_Nm);
+} // namespace hertzgear::stiffness
