@@ -1,5 +1,5 @@
 // `hertzgear validate hertz [SCENE] [--case NAME] [--coarse] --out DIR`: the Hertz closed forms
-// (fem/hertz) and the TCA's hybrid local compliance (fem/mesh_cycle) against resolved FE contact
+// (contact/hertz) and the TCA's hybrid local compliance (contact/mesh_cycle) against resolved FE contact
 // (fem/resolved_contact), per canonical case of data/scenes/validation/. Writes
 // hertz_validation.csv (case, quantity, closed_form, fe, relative_error, level, dofs,
 // wall_time_s), hertz_rates.csv, pressure_profiles.csv, the used parameters and, when

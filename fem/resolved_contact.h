@@ -3,8 +3,8 @@
 // solved with a primal-dual active set (semismooth Newton; Hintermueller, Ito & Kunisch 2002, the
 // method of deal.II's step-41/42) on the deal.II system, with adaptive refinement driven by the
 // contact zone and Kelly's error estimator. PETSc (MUMPS) and MPI (parallel::distributed).
-// It is the reference against which the Hertz closed forms (fem/hertz) and the hybrid local
-// compliance of the TCA (fem/mesh_cycle) are checked: docs/validation-hertz.md.
+// It is the reference against which the Hertz closed forms (contact/hertz) and the hybrid local
+// compliance of the TCA (contact/mesh_cycle) are checked: docs/validation-hertz.md.
 //
 // The Hertz problem of two elastic bodies equals one body of contact modulus E* = E/(1 - nu^2)
 // against a rigid plane with the initial gap g(x, y) = x^2/(2 R_x) + y^2/(2 R_y) (Johnson 1985,

@@ -1,5 +1,5 @@
-// Requirements on `hertzgear run SCENE --out DIR` (issue 7, docs/architecture.md "The pipeline
-// and its cache"):
+// Requirements on `hertzgear run SCENE --out DIR` (docs/architecture.md, "The pipeline and its
+// cache"):
 //  - the stages follow from the scene: a closed-form stiffness source runs stiffness + dynamics,
 //    a table source runs only dynamics, an enabled sweep adds the sweep;
 //  - a second run with nothing changed executes no stage;

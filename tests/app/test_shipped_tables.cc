@@ -1,4 +1,4 @@
-// Requirement (issue 7): data/stiffness/ ships the stiffness tables of both paper scenes, and they
+// Requirement: data/stiffness/ ships the stiffness tables of both paper scenes, and they
 // are what the current code produces at the shipped level. The test regenerates each table with
 // the command recorded in data/stiffness/README.md and compares it with the shipped file.
 //

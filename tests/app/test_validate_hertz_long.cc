@@ -1,5 +1,6 @@
-// The full Hertz validation study (label long, minutes): the acceptance of issue 6 on the finest
-// level of every case. Measured numbers and their discussion: docs/validation-hertz.md.
+// The full Hertz validation study (label long, minutes): the acceptance bounds (2 % against the
+// Hertz closed forms, 5 % for the TCA's local penetration) on the finest level of every case.
+// Measured numbers and their discussion: docs/validation-hertz.md.
 #include "../support/run_command.h"
 
 #include <gtest/gtest.h>
@@ -40,11 +41,11 @@ namespace
   }
 } // namespace
 
-// Requirement (issue 6): on the finest level the resolved FE contact agrees with the Hertz closed
+// Requirement: on the finest level the resolved FE contact agrees with the Hertz closed
 // form within 2 % for both semi-axes and the peak pressure of the sphere, the 1:5 and 1:20
 // ellipsoids and the crowned flank, and for the half-width of the 2D cylinder; the TCA's hybrid
 // local penetration agrees with the resolved FE within 5 % for the crowned flank at the pitch
-// point. The bounds are the acceptance bounds of the issue.
+// point. The bounds are the acceptance bounds themselves, not fitted to the measurements.
 TEST(ValidateHertzLong, FullStudyMeetsTheAcceptance)
 {
   const fs::path dir = fresh_temp_dir("validate_hertz_full");

@@ -1,4 +1,4 @@
-// Requirement (issue 5): the FE global compliance of a gear body converges with refinement at
+// Requirement: the FE global compliance of a gear body converges with refinement at
 // the expected rate. The quantity is what the TCA tabulates: the displacement along the inward
 // flank normal at a fixed depth below a fixed flank point, per unit normal force on a fixed patch
 // there (TabulatedFlankCompliance), for the paper's pinion (2D plane strain, 5-tooth sector held

@@ -60,7 +60,7 @@ namespace
 } // namespace
 
 // Requirement: in plane strain the resolved FE contact shall give the Hertz half-width and peak
-// pressure within 2 % (the acceptance bound of issue 6) once the contact is resolved by about
+// pressure within 2 % (the acceptance bound) once the contact is resolved by about
 // 30 cells per half-width, and both errors shall decrease with refinement.
 TEST(ResolvedContact, CylinderPlaneStrainMatchesHertz)
 {
