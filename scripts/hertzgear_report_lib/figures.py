@@ -17,11 +17,10 @@ from collections import namedtuple
 import numpy as np
 from matplotlib.patches import Ellipse, Rectangle
 
-from .artifacts import find_series, is_number, prm_float
-from .plotting import (COLORS, fit_fourier, fourier_value, force_scale, label, mark_backlash,
-                       mark_mesh_periods, plt, reference_of, right_axis, save_figure_atomically,
-                       scaled, shade_contact, shifted, shifted_label, span_limits,
-                       title_and_legend, unit_of)
+from .artifacts import find_series, is_number
+from .plotting import (COLORS, fourier_value, force_scale, label, mark_backlash, mark_mesh_periods,
+                       plt, reference_of, right_axis, save_figure_atomically, scaled, shade_contact,
+                       shifted, shifted_label, span_limits, title_and_legend, unit_of)
 from .signals import (DTE, NOT_A_RATE, RATE, TIME, amplitude_spectrum, decimate, distinct_points,
                       loop_segments, poincare_points, polygon_area, steady_part, steady_window,
                       time_column, unique_in_order)
@@ -58,13 +57,12 @@ STIFFNESS_PANELS = (
 Quantity = namedtuple("Quantity", "key title unit samples series note")
 
 
-def stiffness_quantities(scene, table, js, phase):
-    """The stiffness quantities the artifacts give: samples from the table, the Fourier series
-    from the coefficients of stiffness.json or fitted to the samples, and a note saying where the
-    line comes from."""
+def stiffness_quantities(scene, table, js):
+    """The stiffness quantities the artifacts give: samples from the table, the Fourier series of
+    the coefficients stiffness.json carries (none is fitted here), and a note saying where the
+    line comes from or that there is none."""
     n = scene.hertz_exponent
     kh_unit = "N/m" if n in (None, 1.0) else "N/m$^{%g}$" % n
-    harmonics = prm_float(scene.prm, "Stiffness", "harmonics")
     found = []
     for key, title, patterns, json_names in STIFFNESS_PANELS:
         col = table.find(*patterns, exclude=("total",) if key != "k_total" else ()) \
@@ -73,16 +71,13 @@ def stiffness_quantities(scene, table, js, phase):
         where, series = find_series(js, *json_names)
         if key != "k_total" and where and "total" in where:
             where, series = None, None
-        note = None
-        if series is None and samples is not None and np.isfinite(samples).sum() >= 3:
-            ok = np.isfinite(samples)
-            h = int(harmonics) if harmonics else 4
-            h = max(1, min(h, (int(ok.sum()) - 1) // 2))
-            series = fit_fourier(phase[ok], samples[ok], h)
-            note = "%s: least-squares fit of %d harmonics made here" % (key, h)
-        elif series is not None:
+        if series is not None:
             note = "%s: Fourier coefficients of stiffness.json (%s)" % (key, where)
-        if samples is None and series is None:
+        elif samples is not None:
+            note = "%s: samples only, %s" % (key, "stiffness.json carries no Fourier coefficients "
+                                             "for it" if isinstance(js, dict) else
+                                             "no stiffness.json gives its Fourier coefficients")
+        else:
             continue
         found.append(Quantity(key, title, kh_unit if key == "k_hertz" else "N/m", samples,
                               series, note))
@@ -108,9 +103,10 @@ def stiffness_panel(ax, q, phase, sample_label):
 
 
 def stiffness_cycle(sec, scene, table, js):
-    """k_total, k_rest and k_h over the mesh cycle: samples as dots, Fourier series as lines."""
+    """k_total, k_rest and k_h over the mesh cycle: samples as dots, the Fourier series of the
+    coefficients in stiffness.json as lines."""
     phase = mesh_phase(table) if table is not None else None
-    found = stiffness_quantities(scene, table, js, phase)
+    found = stiffness_quantities(scene, table, js)
     if not found:
         sec.note("Neither stiffness samples nor Fourier coefficients were found.")
         return
@@ -122,12 +118,14 @@ def stiffness_cycle(sec, scene, table, js):
         stiffness_panel(ax, q, phase, sample_label)
         if i == 0:
             ax.legend(loc="best", fontsize=8)
+    lines = (", lines the Fourier series the dynamics uses"
+             if any(q.series is not None for q in found) else "")
     publish(sec, "stiffness_cycle.png", fig,
             "Mesh stiffness over one mesh cycle: the total, its structural (rest) part and "
             "the Hertzian stiffness, as far as the artifacts give them. Dots are the "
-            "loaded-TCA positions, lines the Fourier series the dynamics uses "
-            "(1/k<sub>rest</sub> = 1/k<sub>total</sub> − 1/k<sub>h,tangent</sub>). "
-            + html.escape("; ".join(q.note for q in found if q.note)) + ".")
+            "loaded-TCA positions%s "
+            "(1/k<sub>rest</sub> = 1/k<sub>total</sub> − 1/k<sub>h,tangent</sub>). " % lines
+            + html.escape("; ".join(q.note for q in found)) + ".")
 
 
 def ste_load_sharing(sec, table):

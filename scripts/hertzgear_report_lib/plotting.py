@@ -122,18 +122,6 @@ def fourier_value(series, phase_cycles):
     return y
 
 
-def fit_fourier(phase, samples, harmonics):
-    """Least-squares fit in the same form as fourier_value."""
-    theta = 2 * np.pi * np.asarray(phase)
-    cols = [np.ones_like(theta)]
-    for j in range(1, harmonics + 1):
-        cols += [np.cos(j * theta), np.sin(j * theta)]
-    coef, *_ = np.linalg.lstsq(np.column_stack(cols), np.asarray(samples), rcond=None)
-    amps = [math.hypot(coef[2 * j - 1], coef[2 * j]) for j in range(1, harmonics + 1)]
-    phases = [math.atan2(coef[2 * j], coef[2 * j - 1]) for j in range(1, harmonics + 1)]
-    return {"mean": coef[0], "amplitudes": amps, "phases_rad": phases}
-
-
 # --------------------------------------------------------------------------------------------
 # Decoration
 # --------------------------------------------------------------------------------------------

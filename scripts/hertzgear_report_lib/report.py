@@ -42,7 +42,7 @@ class Report:
                      "sharing, contact) are left out (the scene may take its stiffness from a "
                      "table or closed forms).")
             if isinstance(js, dict):
-                self.attempt(sec, "stiffness fit", figures.stiffness_cycle, self.scene,
+                self.attempt(sec, "stiffness figure", figures.stiffness_cycle, self.scene,
                              samples_table(js), js)
                 sec.add(stiffness_json_table(js))
             return
