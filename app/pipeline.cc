@@ -276,6 +276,20 @@ namespace hertzgear
           return {}; // the report stage itself says what is missing
         }
     }
+
+    // The modules the report script imports from beside it (hertzgear_report_lib/*.py), sorted:
+    // the figures and the page come from them as much as from the script.
+    std::vector<fs::path> report_modules(const fs::path &script)
+    {
+      std::vector<fs::path> modules;
+      const fs::path        folder = script.parent_path() / "hertzgear_report_lib";
+      if (fs::is_directory(folder))
+        for (const auto &e : fs::directory_iterator(folder))
+          if (e.is_regular_file() && e.path().extension() == ".py")
+            modules.push_back(e.path());
+      std::sort(modules.begin(), modules.end());
+      return modules;
+    }
   } // namespace
 
   std::string StageKey::key() const
@@ -401,7 +415,12 @@ namespace hertzgear
             key.inputs = produced;
             const fs::path script = report_script();
             if (!script.empty() && fs::is_regular_file(script))
-              key.inputs.emplace_back("report script", file_content_hash(script));
+              {
+                key.inputs.emplace_back("report script", file_content_hash(script));
+                for (const fs::path &py : report_modules(script))
+                  key.inputs.emplace_back("report module " + py.filename().string(),
+                                          file_content_hash(py));
+              }
           }
 
         StageOutcome o;

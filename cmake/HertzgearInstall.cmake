@@ -29,6 +29,11 @@ if(HERTZGEAR_WITH_FEM)
                    ${CMAKE_SOURCE_DIR}/scripts/plot_accuracy_stiffness.py
                    ${CMAKE_SOURCE_DIR}/scripts/plot_hertz_validation.py
           DESTINATION ${CMAKE_INSTALL_DATADIR}/hertzgear/scripts)
+  # The modules of the report script, beside it (it imports them from its own folder).
+  install(DIRECTORY ${CMAKE_SOURCE_DIR}/scripts/hertzgear_report_lib
+          DESTINATION ${CMAKE_INSTALL_DATADIR}/hertzgear/scripts
+          FILES_MATCHING PATTERN "*.py"
+          PATTERN "__pycache__" EXCLUDE)
 endif()
 
 set(_cfgdir ${CMAKE_INSTALL_LIBDIR}/cmake/hertzgear)

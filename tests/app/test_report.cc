@@ -1,6 +1,7 @@
 // Requirements on `hertzgear report DIR`: it turns the artifacts of a run (flat or nested in stage
 // folders) into DIR/report/index.html with PNG figures that exist and carry content, it leaves a
-// figure out with a note when its input is absent, it rejects a missing or empty directory with
+// figure out with a note when its input is absent, it draws the stiffness's Fourier series only
+// from the coefficients stiffness.json carries, it rejects a missing or empty directory with
 // exit code 2, it never leaves a half-written file under a final name, and the page loads in a
 // browser (headless Chromium) with every image present and a screenshot that is not blank.
 //
@@ -114,6 +115,12 @@ TEST(Report, NestedRunGivesEveryFigure)
   // b_c and f_m are taken from summary.json when it states them.
   EXPECT_THAT(html, HasSubstr("b<sub>c</sub> = 58.6 µm, from summary.json"));
   EXPECT_THAT(html, HasSubstr("f<sub>m</sub> = 57.5 Hz"));
+  // The stiffness lines are the Fourier series of the coefficients stiffness.json carries.
+  for (const char *source :
+       {"k_total: Fourier coefficients of stiffness.json (k_total_N_per_m)",
+        "k_rest: Fourier coefficients of stiffness.json (k_rest_N_per_m)",
+        "k_hertz: Fourier coefficients of stiffness.json (k_hertz_N_per_m_pow_n)"})
+    EXPECT_THAT(html, HasSubstr(source));
   // No temporary file is left behind by a report that finished.
   for (const auto &entry : fs::directory_iterator(report))
     EXPECT_EQ(entry.path().filename().string().find(".hg-partial"), std::string::npos)
@@ -177,6 +184,26 @@ TEST(Report, CorruptArtifactIsNotedAndTheRestIsDrawn)
   EXPECT_THAT(html, HasSubstr("spectrum.csv could not be read"));
   expect_images_present(dir / "report", image_sources(html));
   EXPECT_THAT(image_sources(html), ::testing::Contains("dte_penetration.png"));
+}
+
+// Without Fourier coefficients in stiffness.json, the stiffness figure shall draw the samples of
+// stiffness.csv only and say that the coefficients are missing: the report fits no series itself.
+TEST(Report, StiffnessWithoutCoefficientsDrawsSamplesOnly)
+{
+  const fs::path dir = make_run("report_no_coefficients", "--layout nested --only stiffness");
+  std::ofstream(dir / "stiffness" / "stiffness.json", std::ios::trunc)
+    << "{\"schema\": \"hertzgear-stiffness-table/1\", \"hertz_exponent\": 1.5}";
+  const auto r = run_hertzgear("report " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = slurp(dir / "report" / "index.html");
+  EXPECT_THAT(image_sources(html), ::testing::Contains("stiffness_cycle.png"));
+  expect_images_present(dir / "report", image_sources(html));
+  for (const char *quantity : {"k_total", "k_rest", "k_hertz"})
+    EXPECT_THAT(html, HasSubstr(std::string(quantity) +
+                                ": samples only, stiffness.json carries no Fourier coefficients "
+                                "for it"));
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("Fourier coefficients of stiffness.json")));
+  EXPECT_THAT(html, ::testing::Not(HasSubstr("lines the Fourier series")));
 }
 
 // An interrupted report shall leave no half-written file under a final name: whatever instant it

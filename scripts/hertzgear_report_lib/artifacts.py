@@ -1,0 +1,435 @@
+"""Reading the artifacts of a hertzgear run and writing the report's files.
+
+Finds each artifact in the run directory or its stage sub-folders, parses CSV tables, JSON and the
+deal.II parameter file (used_parameters.prm), picks the Fourier coefficients out of stiffness.json,
+and gathers the scene quantities the figures need (half backlash, mesh frequency, Hertz exponent,
+static force). Files are written atomically: a temporary file in the same folder, then os.replace.
+"""
+
+import csv
+import json
+import math
+import os
+import re
+import tempfile
+import time
+
+import numpy as np
+
+EXIT_BAD_INPUT = 2
+
+# Sub-folders a pipeline may nest its stages in; the run directory itself comes first.
+STAGE_FOLDERS = ("", "stiffness", "dynamics", "sweep", "accuracy")
+
+ARTIFACT_NAMES = (
+    "stiffness.csv", "stiffness.json", "timeseries.csv", "poincare.csv", "spectrum.csv",
+    "force_penetration.csv", "summary.json", "sweep.csv", "bifurcation.csv",
+    "used_parameters.prm", "run.json",
+)
+
+# In the name of a temporary file, between its leading dot and final name and a random tail.
+PARTIAL_MARKER = ".hg-partial-"
+
+
+class BadInput(Exception):
+    """Input the report cannot work with: exit code 2."""
+
+
+# --------------------------------------------------------------------------------------------
+# Atomic output
+# --------------------------------------------------------------------------------------------
+
+def replace_atomically(path, write):
+    """Writes path through write(temporary path), a temporary file in the same folder that is
+    synced and then renamed to path; on any failure the temporary file is removed."""
+    directory, name = os.path.split(path)
+    fd, tmp = tempfile.mkstemp(prefix="." + name + PARTIAL_MARKER, dir=directory)
+    os.close(fd)
+    try:
+        write(tmp)
+        with open(tmp, "rb") as f:
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+def write_text_atomically(path, text):
+    def write(tmp):
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+
+    replace_atomically(path, write)
+
+
+def remove_stale_temporaries(directory, age_s=600):
+    """Temporary files of a report that was killed; young ones may belong to a report running
+    now and are left alone."""
+    now = time.time()
+    for name in os.listdir(directory):
+        if name.startswith(".") and PARTIAL_MARKER in name:
+            path = os.path.join(directory, name)
+            try:
+                if now - os.path.getmtime(path) > age_s:
+                    os.remove(path)
+            except OSError:
+                pass
+
+
+# --------------------------------------------------------------------------------------------
+# Tables, JSON, parameter files
+# --------------------------------------------------------------------------------------------
+
+class Table:
+    """A CSV table: column name -> numpy array (float where every entry parses, else str)."""
+
+    def __init__(self, path):
+        self.path = path
+        self.columns = {}
+        self.names = []
+        with open(path, newline="", encoding="utf-8") as f:
+            lines = [line for line in f if line.strip() and not line.lstrip().startswith("#")]
+        rows = list(csv.reader(lines))
+        if not rows:
+            raise BadInput("%s is empty" % path)
+        self.names = [n.strip() for n in rows[0]]
+        body = [r for r in rows[1:] if len(r) == len(self.names)]
+        for i, name in enumerate(self.names):
+            raw = [r[i].strip() for r in body]
+            try:
+                self.columns[name] = np.array([float(v) if v != "" else np.nan for v in raw])
+            except ValueError:
+                self.columns[name] = np.array(raw, dtype=object)
+
+    @classmethod
+    def from_columns(cls, path, columns):
+        """A table from equal-length numeric lists (e.g. the samples of stiffness.json)."""
+        table = cls.__new__(cls)
+        table.path = path
+        table.names = list(columns)
+        table.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
+        return table
+
+    def __len__(self):
+        return len(next(iter(self.columns.values()))) if self.columns else 0
+
+    def numeric(self, name):
+        return name in self.columns and self.columns[name].dtype != object
+
+    def find(self, *patterns, exclude=()):
+        """First column whose lower-case name starts with a pattern (or matches a regex 're:...')."""
+        for pattern in patterns:
+            for name in self.names:
+                low = name.lower()
+                if any(e in low for e in exclude):
+                    continue
+                if pattern.startswith("re:"):
+                    if re.search(pattern[3:], low):
+                        return name
+                elif low.startswith(pattern):
+                    return name
+        return None
+
+    def __getitem__(self, name):
+        return self.columns[name]
+
+
+def load_json(path):
+    with open(path, encoding="utf-8") as f:
+        return json.load(f)
+
+
+def flatten(obj, prefix=""):
+    """Nested dicts as a list of (dotted key path, leaf value)."""
+    out = []
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            out.extend(flatten(v, prefix + "." + k if prefix else k))
+    else:
+        out.append((prefix, obj))
+    return out
+
+
+def parse_prm(path):
+    """deal.II ParameterHandler text -> list of (section path, key, value, help, default)."""
+    entries = []
+    stack = []
+    comment = []
+    with open(path, encoding="utf-8") as f:
+        for raw in f:
+            line = raw.strip()
+            if not line:
+                comment = []
+                continue
+            if line.startswith("#"):
+                text = line[1:].strip()
+                if text and not set(text) <= set("-") and text != "Listing of Parameters":
+                    comment.append(text)
+                continue
+            m = re.match(r"subsection\s+(.+)$", line)
+            if m:
+                stack.append(m.group(1).strip())
+                comment = []
+                continue
+            if line == "end":
+                if stack:
+                    stack.pop()
+                comment = []
+                continue
+            m = re.match(r"set\s+(.+?)\s*=\s*(.*)$", line)
+            if m:
+                value, default = _prm_value_and_default(m.group(2))
+                entries.append(("/".join(stack), m.group(1).strip(), value, " ".join(comment),
+                                default))
+                comment = []
+    return entries
+
+
+def _prm_value_and_default(text):
+    """(value, default or None) of the text after 'set key ='."""
+    value, default = text, None
+    d = re.search(r"#\s*default:\s*(.*)$", value)
+    if d:
+        default = d.group(1).strip()
+        value = value[: d.start()]
+    return value.split(" #")[0].strip(), default
+
+
+def prm_value(entries, section_suffix, key):
+    for section, k, value, _, _ in entries:
+        if k == key and section.endswith(section_suffix):
+            return value
+    return None
+
+
+def prm_float(entries, section_suffix, key):
+    v = prm_value(entries, section_suffix, key)
+    try:
+        return float(v) if v is not None else None
+    except ValueError:
+        return None
+
+
+# --------------------------------------------------------------------------------------------
+# The run directory
+# --------------------------------------------------------------------------------------------
+
+class Artifacts:
+    """Finds each artifact in DIR or its stage sub-folders (the shallowest copy wins)."""
+
+    def __init__(self, run_dir, report_dir):
+        self.run_dir = os.path.abspath(run_dir)
+        self.report_dir = os.path.abspath(report_dir)
+        self.paths = {}
+        for name in ARTIFACT_NAMES:
+            for folder in STAGE_FOLDERS:
+                p = os.path.join(self.run_dir, folder, name)
+                if os.path.isfile(p):
+                    self.paths[name] = p
+                    break
+        self.accuracy_tables = self._find_accuracy_tables()
+        self.notes = []       # problems met while reading, shown on the page
+        self._cache = {}
+
+    def _find_accuracy_tables(self):
+        found = []
+        for folder in STAGE_FOLDERS:
+            d = os.path.join(self.run_dir, folder)
+            if not os.path.isdir(d) or os.path.abspath(d) == self.report_dir:
+                continue
+            for name in sorted(os.listdir(d)):
+                low = name.lower()
+                if not low.endswith(".csv"):
+                    continue
+                in_accuracy_folder = folder == "accuracy"
+                if in_accuracy_folder or "accuracy" in low or "work_precision" in low:
+                    p = os.path.join(d, name)
+                    if p not in found:
+                        found.append(p)
+        return found
+
+    def any(self):
+        return bool(self.paths or self.accuracy_tables)
+
+    def has(self, name):
+        return name in self.paths
+
+    def rel(self, name):
+        return os.path.relpath(self.paths[name], self.run_dir)
+
+    def get(self, name):
+        """The parsed artifact, or None when it is absent or unreadable (with a note)."""
+        if name not in self.paths:
+            return None
+        if name in self._cache:
+            return self._cache[name]
+        path = self.paths[name]
+        try:
+            if name.endswith(".csv"):
+                value = Table(path)
+                if len(value) == 0:
+                    raise BadInput("no data rows")
+            elif name.endswith(".json"):
+                value = load_json(path)
+            else:
+                value = parse_prm(path)
+        except Exception as e:  # an unreadable artifact costs its figures, not the report
+            self.notes.append("%s could not be read: %s" % (self.rel(name), e))
+            value = None
+        self._cache[name] = value
+        return value
+
+
+# --------------------------------------------------------------------------------------------
+# stiffness.json
+# --------------------------------------------------------------------------------------------
+
+def as_series(obj):
+    """{mean, amplitudes, phases_rad} from a dict with keys starting mean/amplitude/phase (their
+    unit suffixes vary), or None."""
+    if not isinstance(obj, dict):
+        return None
+    pick = {}
+    for key, value in obj.items():
+        low = key.lower()
+        for name in ("mean", "amplitude", "phase"):
+            if low.startswith(name) and name not in pick:
+                pick[name] = value
+    if not isinstance(pick.get("mean"), (int, float)) or "amplitude" not in pick:
+        return None
+    amplitudes = list(pick.get("amplitude") or [])
+    phases = list(pick.get("phase") or [0.0] * len(amplitudes))
+    if len(phases) != len(amplitudes):
+        return None
+    phase_key = next((k for k in obj if k.lower().startswith("phase")), "")
+    if phase_key.lower().endswith("_deg"):
+        phases = [math.radians(p) for p in phases]
+    return {"mean": float(pick["mean"]), "amplitudes": amplitudes, "phases_rad": phases}
+
+
+def find_series(stiffness_json, *names):
+    """(key path, series): the Fourier coefficients in stiffness.json whose key path contains one
+    of the names, or (None, None)."""
+    if not isinstance(stiffness_json, dict):
+        return None, None
+
+    def walk(obj, path):
+        if isinstance(obj, dict):
+            series = as_series(obj)
+            if series is not None:
+                yield path, series
+            for k, v in obj.items():
+                yield from walk(v, path + [k])
+
+    candidates = list(walk(stiffness_json, []))
+    for name in names:
+        for path, series in candidates:
+            if path and any(name in p.lower() for p in path):
+                return ".".join(path), series
+    return None, None
+
+
+def samples_table(stiffness_json):
+    """The per-position samples of stiffness.json ("samples": mesh_phase and equal-length numeric
+    lists) as a Table, or None."""
+    samples = stiffness_json.get("samples") if isinstance(stiffness_json, dict) else None
+    if not (isinstance(samples, dict) and samples.get("mesh_phase")):
+        return None
+    n = len(samples["mesh_phase"])
+    return Table.from_columns("stiffness.json samples", {
+        k: v for k, v in samples.items()
+        if isinstance(v, list) and len(v) == n and all(isinstance(x, (int, float)) for x in v)})
+
+
+# --------------------------------------------------------------------------------------------
+# Scene quantities
+# --------------------------------------------------------------------------------------------
+
+def length_in_um(key, value):
+    low = key.lower()
+    if low.endswith("_um"):
+        return value
+    if low.endswith("_mm"):
+        return value * 1e3
+    if low.endswith("_m"):
+        return value * 1e6
+    return None
+
+
+def is_number(v):
+    """A JSON number (int or float, not a boolean)."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+class Scene:
+    """Quantities the figures need, from summary.json, else used_parameters.prm."""
+
+    def __init__(self, art):
+        self.summary = art.get("summary.json") or {}
+        self.prm = art.get("used_parameters.prm") or []
+        self.flat_summary = dict(flatten(self.summary)) if isinstance(self.summary, dict) else {}
+        self.b_c_um, self.b_c_source = self._half_backlash()
+        self.f_mesh_hz, self.f_mesh_source = self._mesh_frequency(art)
+        self.hertz_exponent = self._hertz_exponent(art)
+        self.static_force_n = self._number("static_force_n", "f0_n")
+        self.transient_periods = prm_float(self.prm, "Dynamics", "transient_periods")
+
+    def _number(self, *keys):
+        for k, v in self.flat_summary.items():
+            if k.split(".")[-1].lower() in keys and isinstance(v, (int, float)):
+                return float(v)
+        return None
+
+    def _half_backlash(self):
+        backlash_effect = prm_value(self.prm, "Effects", "backlash")
+        if backlash_effect is not None and backlash_effect.lower() in ("off", "false", "0"):
+            return None, "the backlash effect is off"
+        for k, v in self.flat_summary.items():
+            leaf = k.split(".")[-1].lower()
+            if not is_number(v):
+                continue
+            um = length_in_um(leaf, float(v))
+            if um is None:
+                continue
+            if leaf.startswith("b_c") or ("backlash" in leaf and "half" in leaf):
+                return um, "summary.json (%s)" % k
+            if "backlash" in leaf:
+                return um / 2, "summary.json (%s / 2)" % k
+        total_mm = prm_float(self.prm, "Operating", "backlash_mm")
+        if total_mm is not None and total_mm > 0:
+            return total_mm * 1e3 / 2, "used_parameters.prm (Operating/backlash_mm / 2)"
+        return None, "no backlash value found"
+
+    def _mesh_frequency(self, art):
+        for k, v in self.flat_summary.items():
+            leaf = k.split(".")[-1].lower()
+            if not is_number(v) or v <= 0:
+                continue
+            if "mesh_frequency" in leaf and leaf.endswith("_hz"):
+                return float(v), "summary.json (%s)" % k
+            if "mesh_period" in leaf and leaf.endswith("_s"):
+                return 1.0 / float(v), "summary.json (%s)" % k
+        rpm = prm_float(self.prm, "Operating", "speed_rpm")
+        teeth = prm_float(self.prm, "Gear pair/Pinion", "teeth")
+        if rpm and teeth:
+            return teeth * rpm / 60.0, "used_parameters.prm (z₁ n₁ / 60)"
+        p = art.get("poincare.csv")
+        if p is not None:
+            t = p.find("time")
+            if t and p.numeric(t) and len(p) > 2:
+                dt = np.median(np.diff(p[t]))
+                if dt > 0:
+                    return 1.0 / dt, "poincare.csv (spacing of the section times)"
+        return None, "no speed or mesh frequency found"
+
+    def _hertz_exponent(self, art):
+        stiffness = art.get("stiffness.json")
+        if isinstance(stiffness, dict):
+            for k, v in flatten(stiffness):
+                if k.split(".")[-1].lower() in ("hertz_exponent", "exponent_n", "n") and \
+                        isinstance(v, (int, float)):
+                    return float(v)
+        return prm_float(self.prm, "Stiffness", "hertz_exponent")
