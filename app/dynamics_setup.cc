@@ -1,6 +1,8 @@
 #include "app/dynamics_setup.h"
 
+#include "app/meshing_setup.h"
 #include "app/stiffness_setup.h"
+#include "meshing/gear_geometry.h"
 #include "common/errors.h"
 
 #include <cmath>
@@ -11,15 +13,14 @@ namespace hertzgear
   {
     double base_radius_m(const GearScene &g)
     {
-      return 1e-3 * g.module_mm * g.teeth * std::cos(g.pressure_angle_deg * M_PI / 180.0) / 2.0;
+      return 1e-3 * meshing::base_radius_mm(gear_parameters(g, "gear"));
     }
 
-    // Solid disc between the bore and the root circle r_f = m (z/2 - h_fP/m + x), over the face
-    // width: I = rho b pi (r_f^4 - r_bore^4) / 2.
+    // Solid disc between the bore and the root circle r_f, over the face width:
+    // I = rho b pi (r_f^4 - r_bore^4) / 2.
     double disc_inertia_kg_m2(const GearScene &g, const Material &mat)
     {
-      const double r_f  = 1e-3 * g.module_mm * (g.teeth / 2.0 - g.dedendum_coefficient +
-                                               g.profile_shift_coefficient);
+      const double r_f  = 1e-3 * meshing::root_radius_mm(gear_parameters(g, "gear"));
       const double r_in = 1e-3 * g.bore_radius_mm;
       HG_REQUIRE_INPUT(r_f > r_in, "root radius ", r_f * 1e3, " mm is not larger than the bore radius ",
                        g.bore_radius_mm, " mm: give the inertias in Dynamics/*_inertia_kg_m2");

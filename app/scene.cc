@@ -3,7 +3,9 @@
 #include "app/scene.h"
 
 #include "common/errors.h"
+#include "app/meshing_setup.h"
 #include "common/hash.h"
+#include "meshing/gear_geometry.h"
 #include "stiffness/registry.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -519,11 +521,6 @@ namespace hertzgear
         schema.prm.leave_subsection();
     }
 
-    double root_radius_mm(const GearScene &g)
-    {
-      return g.module_mm * (0.5 * g.teeth - g.dedendum_coefficient + g.profile_shift_coefficient);
-    }
-
     // Cross-field checks that a range pattern cannot express.
     void check_consistency(const Scene &sc)
     {
@@ -539,7 +536,7 @@ namespace hertzgear
       const std::pair<const char *, const GearScene *> gears[] = {{"Pinion", &p}, {"Gear", &g}};
       for (const auto &[name, gear] : gears)
         {
-          const double rf = root_radius_mm(*gear);
+          const double rf = meshing::root_radius_mm(gear_parameters(*gear, name));
           HG_REQUIRE_INPUT(gear->bore_radius_mm < rf,
                            "Gear pair/", name, "/bore_radius_mm = ", gear->bore_radius_mm,
                            " is not inside the root circle (root radius ", rf, " mm)");

@@ -19,6 +19,19 @@ namespace hertzgear::meshing
     return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
   }
 
+  double pitch_radius_mm(const GearParameters &p) { return 0.5 * p.module_mm * p.teeth; }
+
+  double base_radius_mm(const GearParameters &p)
+  {
+    return pitch_radius_mm(p) * std::cos(p.pressure_angle_rad);
+  }
+
+  double root_radius_mm(const GearParameters &p)
+  {
+    const double m = p.module_mm;
+    return pitch_radius_mm(p) + p.profile_shift_coefficient * m - p.dedendum_coefficient * m;
+  }
+
   GearGeometry::GearGeometry(const GearParameters &parameters) : params(parameters)
   {
     const auto  &p    = params;
@@ -41,12 +54,12 @@ namespace hertzgear::meshing
                      ": cutter tip radius coefficient must be >= 0");
 
     const double m = p.module_mm, alpha = p.pressure_angle_rad, x = p.profile_shift_coefficient;
-    r     = 0.5 * m * p.teeth;
-    r_b   = r * std::cos(alpha);
+    r     = meshing::pitch_radius_mm(p);
+    r_b   = meshing::base_radius_mm(p);
     s_ref = m * (0.5 * pi + 2 * x * std::tan(alpha)) - p.thickness_reduction_mm;
     psi_b = s_ref / (2 * r) + involute(alpha);
     r_a   = p.tip_radius_mm > 0 ? p.tip_radius_mm : r + m * (p.addendum_coefficient + x);
-    r_f   = r + x * m - p.dedendum_coefficient * m;
+    r_f   = meshing::root_radius_mm(p);
     HG_REQUIRE_INPUT(r_f > 0, name, ": absurd dimensions: root radius ", r_f,
                      " mm is not positive (teeth ", p.teeth, ", dedendum ",
                      p.dedendum_coefficient, " m, profile shift ", x, ")");

@@ -17,6 +17,13 @@
 
 namespace hertzgear::meshing
 {
+  // The radii that follow from the parameters alone [mm], without the checks of GearGeometry (the
+  // one formula of each; GearGeometry uses them): pitch r = m z / 2, base r_b = r cos(alpha_P),
+  // root r_f = r + x m - h_fP of the generating rack.
+  double pitch_radius_mm(const GearParameters &p);
+  double base_radius_mm(const GearParameters &p);
+  double root_radius_mm(const GearParameters &p);
+
   class GearGeometry
   {
   public:

@@ -252,3 +252,28 @@ TEST(Run, Iso6336SourceGivesAConstantTable)
     EXPECT_EQ(v, k.front());
   EXPECT_GT(t.at("mean_k_rest_N_per_m").get<double>(), 0);
 }
+
+// Requirement: `hertzgear run` on an FE scene writes the fields of the loaded bodies (fields/)
+// when Output/write_fields is true, as `hertzgear stiffness` does, and records them as artifacts
+// of the stiffness stage; with write_fields = false a rerun removes them, so that no table
+// stands beside the fields of another. The 2D paper pair at level 0 and 3 positions keeps the
+// FE run to seconds.
+TEST(Run, AnFeSceneWritesItsFieldsWhenAsked)
+{
+  const fs::path    dir   = fresh_temp_dir("run_fe_fields");
+  const std::string scene = scene_path("paper_uncrowned.prm") +
+                            " --set Stiffness/fe_level=0 --set Stiffness/positions_per_cycle=3"
+                            " --set Stiffness/harmonics=1 --set Dynamics/periods=60"
+                            " --set Dynamics/transient_periods=30 --set Output/report=false";
+  auto r = run_hertzgear("run " + scene + " --set Output/write_fields=true --out " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "fields" / "pinion.pvd"));
+  EXPECT_TRUE(fs::is_regular_file(dir / "fields" / "gear_contact.pvd"));
+  const auto manifest = slurp(dir / ".hertzgear-cache" / "stiffness.json");
+  EXPECT_THAT(manifest, HasSubstr("fields/pinion.pvd"));
+
+  r = run_hertzgear("run " + scene + " --set Output/write_fields=false --out " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(stages_that_ran(dir).at("stiffness"), true);
+  EXPECT_FALSE(fs::exists(dir / "fields"));
+}
