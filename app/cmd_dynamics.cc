@@ -12,9 +12,9 @@
 #include "app/dynamics_setup.h"
 #include "app/run_directory.h"
 #include "common/errors.h"
+#include "common/processes.h"
 #include "common/progress.h"
 
-#include <deal.II/base/mpi.h>
 
 #include <algorithm>
 #include <atomic>
@@ -221,7 +221,7 @@ namespace hertzgear
 
     // Under mpirun: every rank sends the rows of its jobs (and its failure, if any) to all ranks,
     // so that each rank ends with the whole table, or all of them with the same error.
-    void gather_sweep_rows(const MPI_Comm comm, std::exception_ptr &failure,
+    void gather_sweep_rows(std::exception_ptr &failure,
                            std::vector<std::vector<SweepRow>> &rows, IntegratorStats &stats)
     {
       nlohmann::json mine = {{"rows", nlohmann::json::array()}};
@@ -239,25 +239,15 @@ namespace hertzgear
                                   {"poincare", r.poincare_dte_m}});
       mine["stats"] = integrator_json(stats);
       if (failure)
-        {
-          try
-            {
-              std::rethrow_exception(failure);
-            }
-          catch (const InputError &e)
-            {
-              mine["error"] = {{"code", 2}, {"what", e.what()}};
-            }
-          catch (const NumericalError &e)
-            {
-              mine["error"] = {{"code", 3}, {"what", e.what()}};
-            }
-          catch (const std::exception &e)
-            {
-              mine["error"] = {{"code", 1}, {"what", e.what()}};
-            }
-        }
-      const auto all = dealii::Utilities::MPI::all_gather(comm, mine.dump());
+        try
+          {
+            std::rethrow_exception(failure);
+          }
+        catch (const std::exception &e)
+          {
+            mine["error"] = {{"code", exit_code_of(e)}, {"what", e.what()}};
+          }
+      const auto all = processes::all_gather(mine.dump());
       for (auto &job_rows : rows)
         job_rows.clear();
       stats = IntegratorStats{};
@@ -267,10 +257,14 @@ namespace hertzgear
           if (part.contains("error") && !failure)
             {
               const std::string what = msg("sweep rank ", r, ": ", part["error"]["what"].get<std::string>());
-              const int         code = part["error"]["code"].get<int>();
-              failure = code == 2 ? std::make_exception_ptr(InputError(what)) :
-                        code == 3 ? std::make_exception_ptr(NumericalError(what)) :
-                                    std::make_exception_ptr(std::runtime_error(what));
+              try
+                {
+                  throw_for_exit_code(part["error"]["code"].get<int>(), what);
+                }
+              catch (...)
+                {
+                  failure = std::current_exception();
+                }
             }
           for (const auto &row : part["rows"])
             {
@@ -344,9 +338,8 @@ namespace hertzgear
         for (int i = 0; i < w.points; ++i)
           jobs.push_back({"independent", {i}});
 
-      const MPI_Comm     comm    = MPI_COMM_WORLD;
-      const unsigned int rank    = dealii::Utilities::MPI::this_mpi_process(comm);
-      const unsigned int n_ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+      const auto rank    = static_cast<std::size_t>(processes::rank());
+      const auto n_ranks = static_cast<std::size_t>(processes::count());
       std::vector<std::size_t> my_jobs;
       int                      n_points = 0;
       for (std::size_t j = 0; j < jobs.size(); ++j)
@@ -420,7 +413,7 @@ namespace hertzgear
           t.join();
       }
       if (n_ranks > 1)
-        gather_sweep_rows(comm, failure, rows, total_stats);
+        gather_sweep_rows(failure, rows, total_stats);
       if (failure)
         std::rethrow_exception(failure);
 
@@ -463,7 +456,7 @@ namespace hertzgear
         scene = load_scene(ctx.scene_file, ctx.overrides);
       }
       // Under mpirun only rank 0 writes; the other ranks compute their share of the points.
-      if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0)
+      if (!processes::is_root())
         run_sweep_stage(scene, nullptr, timer, n_threads_requested);
       else if (ctx.out_dir.empty())
         {

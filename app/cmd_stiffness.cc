@@ -3,7 +3,7 @@
 #include "app/command.h"
 #include "app/run_directory.h"
 #include "app/stiffness_setup.h"
-#include "stiffness/processes.h"
+#include "common/processes.h"
 #include "stiffness/table_writer.h"
 
 #include <iostream>
@@ -17,7 +17,7 @@ namespace hertzgear
     {
       // Under mpirun every rank runs an FE source (collective); rank 0 alone reports and writes.
       std::ostringstream silent;
-      const bool         writer = stiffness::is_writing_process();
+      const bool         writer = processes::is_root();
       if (!writer)
         set_progress_stream(&silent);
       PhaseTimer  timer;
@@ -41,23 +41,20 @@ namespace hertzgear
                     << "written to " << out.string() << std::endl;
           dir.finish(timer, {{"stage", "stiffness"},
                              {"source", source.name()},
-                             {"mpi_ranks", stiffness::n_processes()}});
+                             {"mpi_ranks", processes::count()}});
         }
       set_progress_stream(nullptr);
       return 0;
     }
   } // namespace
 
-  void add_accuracy_stiffness_command(CommandRegistry &registry, CLI::App *top);
-
   void add_stiffness_commands(CommandRegistry &registry)
   {
-    CLI::App *sub = registry.add_command({"stiffness",
+    registry.add_command({"stiffness",
                           "The scene's stiffness source over a mesh cycle: stiffness.csv, "
                           "stiffness.json; with Stiffness/source = fem the loaded tooth contact "
                           "analysis (FE + half-space), its meshes and fields/ (Output/write_fields)",
                           true, true},
                          run_stiffness);
-    add_accuracy_stiffness_command(registry, sub->get_parent());
   }
 } // namespace hertzgear

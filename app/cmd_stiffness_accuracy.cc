@@ -17,7 +17,7 @@
 #include "app/stiffness_setup.h"
 #include "common/richardson.h"
 #include "stiffness/fe_tca.h"
-#include "stiffness/processes.h"
+#include "common/processes.h"
 #include "stiffness/registry.h"
 #include "stiffness/table_writer.h"
 #include "common/errors.h"
@@ -86,7 +86,7 @@ namespace hertzgear
                                const std::string &grid_factors_text)
     {
       std::ostringstream silent;
-      if (!stiffness::is_writing_process())
+      if (!processes::is_root())
         set_progress_stream(&silent);
       PhaseTimer  timer;
       const Scene base = load_scene(ctx.scene_file, ctx.overrides);
@@ -312,7 +312,7 @@ namespace hertzgear
         progress_line("accuracy", msg("grid ladder ", name, ": extrapolated ", x.value, ", order ",
                                       x.order, " (", x.note, ")"));
 
-      if (stiffness::is_writing_process())
+      if (processes::is_root())
         {
           if (ctx.out_dir.empty())
             std::cout << csv.str();

@@ -62,10 +62,14 @@ namespace hertzgear
   // Registration functions, one per command file.
   void add_scene_commands(CommandRegistry &registry); // check, defaults
   void add_dynamics_commands(CommandRegistry &registry); // dynamics, sweep, accuracy dynamics
-  void add_geometry_commands(CommandRegistry &registry); // geometry, mesh
+  void add_geometry_commands(CommandRegistry &registry); // geometry
   void add_report_command(CommandRegistry &registry); // report
   void add_stiffness_commands(CommandRegistry &registry); // stiffness
   void add_run_command(CommandRegistry &registry); // run (app/cmd_run.cc, app/pipeline.h)
+  // The commands that need the FE stage: mesh, validate hertz, accuracy stiffness. A build without
+  // it (cmake -DHERTZGEAR_WITH_FEM=OFF) declares the same names, which say so and exit 2
+  // (app/cmd_without_fe.cc).
+  void add_fe_commands(CommandRegistry &registry, CLI::App &top);
 
   // Figures and DIR/report/index.html (or report_dir) from the artifacts in run_dir; returns the
   // exit code (2 when run_dir holds no artifact). Used by `report` and at the end of `run`.

@@ -6,15 +6,16 @@
 //
 // Exit codes: 0 success, 2 bad input (scene, arguments, geometry), 3 numerical failure,
 // 1 anything else.
-#include "app/cmd_validate_hertz.h"
 #include "app/command.h"
 #include "app/stiffness_setup.h"
 #include "common/errors.h"
 
 #include <hertzgear/version.h>
 
-#include <deal.II/base/exceptions.h>
-#include <deal.II/base/mpi.h>
+#ifdef HERTZGEAR_WITH_FEM
+#  include <deal.II/base/exceptions.h>
+#  include <deal.II/base/mpi.h>
+#endif
 
 #include <iostream>
 
@@ -24,7 +25,9 @@ int main(int argc, char **argv)
   // MPI and PETSc for the FE stage (and sweeps over ranks); one deal.II thread per rank: deal.II's
   // worker threads (WorkStream in DataOut, KellyErrorEstimator) read PETSc vectors concurrently,
   // which is not thread-safe and aborted a resolved-contact run when they were allowed.
+#ifdef HERTZGEAR_WITH_FEM
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+#endif
   CLI::App app{"hertzgear: finite-element contact stiffness and gear-pair dynamics", "hertzgear"};
   app.set_version_flag("--version",
                        std::string("hertzgear ") + version + " (git " + git_revision + ")");
@@ -38,7 +41,7 @@ int main(int argc, char **argv)
   add_geometry_commands(registry);
   add_report_command(registry);
   add_stiffness_commands(registry);
-  add_validation_commands(registry, app);
+  add_fe_commands(registry, app);
   add_run_command(registry);
 
   // CLI11 would call an unknown command "extra positional arguments"; name it instead.
@@ -102,6 +105,7 @@ int main(int argc, char **argv)
       std::cerr << "hertzgear: numerical failure: " << e.what() << std::endl;
       return exit_numerical;
     }
+#ifdef HERTZGEAR_WITH_FEM
   catch (const dealii::ExceptionBase &e)
     {
       std::cerr << "hertzgear: error: ";
@@ -109,6 +113,7 @@ int main(int argc, char **argv)
       std::cerr << std::endl;
       return exit_other;
     }
+#endif
   catch (const std::exception &e)
     {
       std::cerr << "hertzgear: error: " << e.what() << std::endl;

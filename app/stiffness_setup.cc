@@ -3,7 +3,7 @@
 #include "app/meshing_setup.h"
 #include "common/atomic_file.h"
 #include "common/errors.h"
-#include "stiffness/processes.h"
+#include "common/processes.h"
 #include "stiffness/registry.h"
 #include "stiffness/table_writer.h"
 
@@ -135,9 +135,9 @@ namespace hertzgear
       input.fe.fields_dir = dir.path() / "fields";
     auto result = source.compute(input, timer);
     // No new table beside the fields of an older one.
-    if (stiffness::is_writing_process() && input.fe.fields_dir.empty())
+    if (processes::is_root() && input.fe.fields_dir.empty())
       fs::remove_all(dir.path() / "fields");
-    if (stiffness::is_writing_process())
+    if (processes::is_root())
       {
         PhaseTimer::Scope scope(timer, "write stiffness");
         nlohmann::json    json = stiffness::stiffness_json(result);

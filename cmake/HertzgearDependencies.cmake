@@ -6,8 +6,9 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
 find_package(Threads REQUIRED)
 
+find_package(CLI11 REQUIRED)
 if(HERTZGEAR_WITH_FEM)
-  find_package(CLI11 REQUIRED)
+  find_package(MPI REQUIRED COMPONENTS CXX)
   find_package(deal.II 9.4 REQUIRED HINTS ${DEAL_II_DIR} $ENV{DEAL_II_DIR} /usr/share/cmake/deal.II)
   # deal.II's imported target carries the libraries but not the include paths: wrap both in one
   # interface target so that every consumer (and a downstream find_package(hertzgear)) gets them.

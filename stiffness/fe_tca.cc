@@ -8,7 +8,7 @@
 #include "fem/flank_compliance.h"
 #include "fem/mpi_root.h"
 #include "meshing/pair_kinematics.h"
-#include "stiffness/processes.h"
+#include "common/processes.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/distributed/shared_tria.h>
@@ -338,7 +338,7 @@ namespace hertzgear::stiffness
                                        " elements, " + std::to_string(quality.n_nodes) + " nodes" +
                                        (quality.full_gear ? " (full gear)" : ""));
         });
-        if (n_processes() > 1)
+        if (processes::count() > 1)
           {
             central[b] = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, central[b], 0);
             band_max_edge_mm[b] =
@@ -527,7 +527,7 @@ namespace hertzgear::stiffness
         // A hidden partial folder next to the destination; the caller renames it when the
         // other artifacts are written.
         std::string partial = temporary_path_for(fe.fields_dir).string();
-        if (n_processes() > 1)
+        if (processes::count() > 1)
           partial = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, partial, 0);
         fem::on_root(MPI_COMM_WORLD, [&] {
           fs::remove_all(partial);
@@ -660,7 +660,4 @@ namespace hertzgear::stiffness
   }
 
   const StiffnessSource &fe_tca_source() { return the_source<FeTcaSource>(); }
-
-  bool is_writing_process() { return fem::is_root_rank(MPI_COMM_WORLD); }
-  int  n_processes() { return static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)); }
 } // namespace hertzgear::stiffness

@@ -1,7 +1,6 @@
 // A build without the finite-element stage (cmake -DHERTZGEAR_WITH_FEM=OFF): the FE source is
 // registered so that the scene knows its name, and says that this build cannot compute it.
 #include "common/errors.h"
-#include "stiffness/processes.h"
 #include "stiffness/stiffness_source.h"
 
 namespace hertzgear::stiffness
@@ -34,7 +33,4 @@ namespace hertzgear::stiffness
   } // namespace
 
   const StiffnessSource &fe_tca_source() { return the_source<UnavailableFeSource>(); }
-
-  bool is_writing_process() { return true; }
-  int  n_processes() { return 1; }
 } // namespace hertzgear::stiffness
