@@ -16,6 +16,7 @@
 // artifacts, and removed before a stage runs, so an interrupted stage never leaves a manifest
 // behind; a stage is reused only when its key matches and every artifact verifies.
 #include "app/scene.h"
+#include "common/stage_cache.h"
 
 #include <nlohmann/json.hpp>
 
@@ -39,16 +40,6 @@ namespace hertzgear
     int  sweep_threads = 0;     // 0: all hardware threads
   };
 
-  // Cache key material of one stage: the scene values it reads (one "Section/key = value" line
-  // each), the code version and the content hashes of its input artifacts.
-  struct StageKey
-  {
-    std::string                                      scene_values;
-    std::string                                      code;
-    std::vector<std::pair<std::string, std::string>> inputs; // name, content hash
-    std::string                                      key() const;
-  };
-
   // The stages a scene calls for, each with a one-line reason (printed by `run`).
   std::vector<std::pair<std::string, std::string>> planned_stages(const Scene &scene);
 
@@ -59,7 +50,4 @@ namespace hertzgear
   std::vector<StageOutcome> run_pipeline(const Scene &scene, const std::filesystem::path &out,
                                          const std::string &command_line,
                                          const PipelineOptions &options = {});
-
-  // FNV-1a 64 hex of a file's content; throws std::runtime_error when it cannot be read.
-  std::string file_content_hash(const std::filesystem::path &file);
 } // namespace hertzgear

@@ -4,6 +4,8 @@
 
 #include <boost/math/quadrature/gauss.hpp>
 
+#include <boost/math/quadrature/gauss.hpp>
+
 #include <cmath>
 
 namespace hertzgear
@@ -224,6 +226,25 @@ namespace hertzgear
         C += influence_matrix(cells, 0.0, body.youngs_modulus_MPa, body.poisson_ratio) -
              influence_matrix(cells, depth, body.youngs_modulus_MPa, body.poisson_ratio);
       return C;
+    }
+
+    double hertz_pressure_displacement_at_depth(const double p0, const double a, const double b,
+                                                const double depth, const double E, const double nu)
+    {
+      const unsigned int n_t = 256;
+      const auto         ring = [&](const double s) {
+        const double r = std::sin(s), dr = std::cos(s), p = p0 * std::cos(s);
+        double       u = 0;
+        for (unsigned int k = 0; k < n_t; ++k)
+          {
+            const double t = 2.0 * pi * (k + 0.5) / n_t;
+            const double x = a * r * std::cos(t), y = b * r * std::sin(t);
+            u += p * a * b * r * dr * (2.0 * pi / n_t) *
+                 point_load_displacement(std::hypot(x, y), depth, 1.0, E, nu);
+          }
+        return u;
+      };
+      return boost::math::quadrature::gauss<double, 64>::integrate(ring, 0.0, 0.5 * pi);
     }
   } // namespace half_space
 } // namespace hertzgear

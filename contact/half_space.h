@@ -106,5 +106,12 @@ namespace hertzgear
                                       const std::vector<Cell> &          cells,
                                       const double                       depth,
                                       const std::vector<Material> &bodies);
+
+    // Displacement (into the body) on the axis at depth d of a half-space of modulus E, Poisson's
+    // ratio nu, under the Hertz pressure p0 sqrt(1 - x^2/a^2 - y^2/b^2): Boussinesq's point load
+    // integrated numerically (x = a r cos t, y = b r sin t, r = sin s makes the integrand smooth;
+    // 64-point Gauss-Legendre in s, the periodic trapezoidal rule in t with 256 points).
+    double hertz_pressure_displacement_at_depth(double p0, double a, double b, double depth,
+                                                double youngs_modulus, double poisson_ratio);
   } // namespace half_space
 } // namespace hertzgear

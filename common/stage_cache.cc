@@ -1,0 +1,237 @@
+#include "common/stage_cache.h"
+
+#include "common/atomic_file.h"
+#include "common/errors.h"
+#include "common/hash.h"
+
+#include <hertzgear/version.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace hertzgear
+{
+  namespace fs = std::filesystem;
+
+  namespace
+  {
+    constexpr const char *cache_folder    = ".hertzgear-cache";
+    constexpr const char *manifest_schema = "hertzgear-cache/1";
+
+    std::map<std::string, std::string> value_map(const std::string &lines)
+    {
+      std::map<std::string, std::string> m;
+      std::istringstream                 in(lines);
+      for (std::string line; std::getline(in, line);)
+        {
+          const auto eq = line.find(" = ");
+          if (eq != std::string::npos)
+            {
+              std::string v = line.substr(eq + 3);
+              v.erase(v.find_last_not_of(" \t") + 1);
+              m[line.substr(0, eq)] = v;
+            }
+        }
+      return m;
+    }
+
+    // The changed scene values between two manifests, as "key: old -> new" (at most a few).
+    std::string changed_values(const std::string &before, const std::string &after)
+    {
+      const auto               a = value_map(before), b = value_map(after);
+      std::vector<std::string> changes;
+      for (const auto &[k, v] : b)
+        if (const auto it = a.find(k); it == a.end() || it->second != v)
+          changes.push_back(k + ": " + (it == a.end() ? std::string("(none)") : it->second) +
+                            " -> " + v);
+      for (const auto &[k, v] : a)
+        if (!b.count(k))
+          changes.push_back(k + ": " + v + " -> (none)");
+      std::string out;
+      for (std::size_t i = 0; i < changes.size() && i < 4; ++i)
+        out += (i ? ", " : "") + changes[i];
+      if (changes.size() > 4)
+        out += msg(" and ", changes.size() - 4, " more");
+      return out;
+    }
+
+  } // namespace
+
+  // The code that produced an artifact. A clean checkout is named by its version and git
+  // revision; a build from modified sources ("-dirty") or without git ("unknown") keeps that
+  // name through any number of edits, so its executable's content hash is added: a rebuilt
+  // hertzgear then invalidates the cache instead of reusing results of other code.
+  std::string code_version()
+  {
+    static const std::string code = [] {
+      std::string       text = std::string(version) + " (git " + git_revision + ")";
+      const std::string rev  = git_revision;
+      if (rev.find("dirty") != std::string::npos || rev == "unknown" || rev.empty())
+        {
+          std::error_code ec;
+          const fs::path  exe = fs::read_symlink("/proc/self/exe", ec);
+          try
+            {
+              if (!ec)
+                text += " executable " + file_content_hash(exe);
+            }
+          catch (const std::exception &)
+            {
+              // No readable executable: the name alone (a clean build needs nothing more).
+            }
+        }
+      return text;
+    }();
+    return code;
+  }
+
+  fs::path manifest_path(const fs::path &out, const std::string &stage)
+  {
+    return out / cache_folder / (stage + ".json");
+  }
+
+  // Artifacts (relative paths) of a stage that wrote whole folders: every regular file below.
+  std::vector<std::string> files_below(const fs::path &out, const std::string &folder)
+  {
+    std::vector<std::string> names;
+    if (fs::is_directory(out / folder))
+      for (const auto &e : fs::recursive_directory_iterator(out / folder))
+        if (e.is_regular_file() && !is_temporary_artifact(e.path()))
+          names.push_back(fs::relative(e.path(), out).generic_string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  // Empty when the cached stage is valid, else why it must run.
+  std::string invalid_reason(const fs::path &out, const std::string &stage, const StageKey &key)
+  {
+    const fs::path m = manifest_path(out, stage);
+    if (!fs::exists(m))
+      return "no cached result";
+    nlohmann::json j;
+    try
+      {
+        std::ifstream in(m);
+        j = nlohmann::json::parse(in);
+      }
+    catch (const std::exception &)
+      {
+        return "its cache manifest is unreadable";
+      }
+    if (j.value("schema", "") != manifest_schema || j.value("stage", "") != stage)
+      return "its cache manifest is of another kind";
+    if (j.value("key", "") != key.key())
+      {
+        if (j.value("code", "") != key.code)
+          return "hertzgear changed (" + j.value("code", "") + " -> " + key.code + ")";
+        if (j.value("scene_values", "") != key.scene_values)
+          return "scene values it reads changed: " +
+                 changed_values(j.value("scene_values", ""), key.scene_values);
+        // Name the inputs whose content changed (or that are new or gone).
+        std::map<std::string, std::string> before;
+        if (j.contains("inputs") && j.at("inputs").is_object())
+          for (const auto &[name, hash] : j.at("inputs").items())
+            if (hash.is_string())
+              before[name] = hash.get<std::string>();
+        std::vector<std::string> changed;
+        for (const auto &[name, hash] : key.inputs)
+          {
+            const auto it = before.find(name);
+            if (it == before.end())
+              {
+                changed.push_back(name + " (new)");
+                continue;
+              }
+            if (it->second != hash)
+              changed.push_back(name);
+            before.erase(it);
+          }
+        for (const auto &[name, hash] : before)
+          changed.push_back(name + " (gone)");
+        std::string list;
+        for (std::size_t i = 0; i < changed.size() && i < 4; ++i)
+          list += (i ? ", " : "") + changed[i];
+        if (changed.size() > 4)
+          list += msg(" and ", changed.size() - 4, " more");
+        return list.empty() ? std::string("an input artifact changed") :
+                              "input changed: " + list;
+      }
+    for (const auto &a : j.at("artifacts"))
+      {
+        const fs::path p = out / a.at("path").get<std::string>();
+        if (!fs::is_regular_file(p))
+          return "artifact " + a.at("path").get<std::string>() + " is missing";
+        if (fs::file_size(p) != a.at("size_bytes").get<std::uintmax_t>() ||
+            file_content_hash(p) != a.at("content_hash").get<std::string>())
+          return "artifact " + a.at("path").get<std::string>() +
+                 " does not match its recorded hash (corrupt or truncated)";
+      }
+    return "";
+  }
+
+  void write_manifest(const fs::path &out, const std::string &stage, const StageKey &key,
+                      const std::vector<std::string> &artifacts, const double wall_time_s)
+  {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto &name : artifacts)
+      {
+        const fs::path p = out / name;
+        if (!fs::is_regular_file(p))
+          throw std::runtime_error("stage " + stage + " did not write its artifact " + name);
+        a.push_back({{"path", name},
+                     {"size_bytes", fs::file_size(p)},
+                     {"content_hash", file_content_hash(p)}});
+      }
+    nlohmann::json inputs = nlohmann::json::object();
+    for (const auto &[name, hash] : key.inputs)
+      inputs[name] = hash;
+    const nlohmann::json j = {{"schema", manifest_schema},
+                              {"stage", stage},
+                              {"key", key.key()},
+                              {"code", key.code},
+                              {"scene_values", key.scene_values},
+                              {"inputs", inputs},
+                              {"artifacts", a},
+                              {"wall_time_s", wall_time_s}};
+    write_file_atomically(manifest_path(out, stage), j.dump(2) + "\n");
+  }
+
+  // Leftover temporaries of an interrupted write (never trusted, removed before a run).
+  void remove_partial_files(const fs::path &out)
+  {
+    if (!fs::is_directory(out))
+      return;
+    std::vector<fs::path> partial;
+    for (const auto &e : fs::recursive_directory_iterator(out))
+      if (e.is_regular_file() && is_temporary_artifact(e.path()))
+        partial.push_back(e.path());
+    for (const auto &p : partial)
+      fs::remove(p);
+  }
+
+  std::string slurp_file(const fs::path &file)
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      throw std::runtime_error("cannot read " + file.string());
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+
+
+  std::string StageKey::key() const
+  {
+    std::string text = "code\n" + code + "\nscene\n" + scene_values + "inputs\n";
+    for (const auto &[name, hash] : inputs)
+      text += name + " " + hash + "\n";
+    return hash_hex(text);
+  }
+
+  std::string file_content_hash(const fs::path &file) { return hash_hex(slurp_file(file)); }
+
+} // namespace hertzgear

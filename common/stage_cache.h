@@ -1,0 +1,46 @@
+#pragma once
+// The cache of a staged run (`hertzgear run`, docs/architecture.md "The pipeline and its cache"):
+// DIR/.hertzgear-cache/<stage>.json records the stage's key (the scene values it read, the code
+// version, the content hashes of its input artifacts) and every artifact with its size and FNV-1a
+// hash. It is written atomically after the artifacts and removed before a stage runs, so an
+// interrupted stage never leaves a manifest behind; a stage is reused only when its key matches
+// and every artifact verifies.
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hertzgear
+{
+  // Cache key material of one stage: the scene values it reads (one "Section/key = value" line
+  // each), the code version and the content hashes of its input artifacts.
+  struct StageKey
+  {
+    std::string                                      scene_values;
+    std::string                                      code;
+    std::vector<std::pair<std::string, std::string>> inputs; // name, content hash
+    std::string                                      key() const;
+  };
+
+  // The code that produced an artifact: version and git revision, and for a build from modified
+  // sources the content hash of the executable, so that a rebuilt hertzgear invalidates the cache.
+  std::string code_version();
+
+  // FNV-1a 64 hex of a file's content; throws std::runtime_error when it cannot be read.
+  std::string file_content_hash(const std::filesystem::path &file);
+  // A file's content; throws std::runtime_error when it cannot be read.
+  std::string slurp_file(const std::filesystem::path &file);
+
+  // DIR/.hertzgear-cache/<stage>.json
+  std::filesystem::path manifest_path(const std::filesystem::path &out, const std::string &stage);
+  // Artifacts (relative paths) of a stage that wrote whole folders: every regular file below.
+  std::vector<std::string> files_below(const std::filesystem::path &out, const std::string &folder);
+  // Empty when the cached stage is valid, else why it must run.
+  std::string invalid_reason(const std::filesystem::path &out, const std::string &stage,
+                             const StageKey &key);
+  // The manifest of a finished stage (written last, atomically).
+  void write_manifest(const std::filesystem::path &out, const std::string &stage, const StageKey &key,
+                      const std::vector<std::string> &artifacts, double wall_time_s);
+  // Leftover temporaries of an interrupted write (never trusted, removed before a run).
+  void remove_partial_files(const std::filesystem::path &out);
+} // namespace hertzgear

@@ -1,0 +1,36 @@
+#pragma once
+#include "contact/half_space.h"
+#include "contact/mesh_cycle.h"
+
+namespace hertzgear::contact
+{
+  // A body whose structural compliance at the reference depth is the half-space's: the
+  // displacement at depth d below flank point `reading` of a unit force spread uniformly over
+  // the TCA grid cell centred at flank point `load` (Boussinesq-Love, exact), at their offset
+  // in the developed flank (developed_offset_mm).
+  class HalfSpaceFlankCompliance : public FlankCompliance
+  {
+  public:
+    HalfSpaceFlankCompliance(const Material &material, const double depth_mm,
+                             const double base_radius_mm, const double half_cell_u_mm,
+                             const double half_cell_z_mm)
+      : material(material), depth(depth_mm), r_b(base_radius_mm), hu(half_cell_u_mm)
+      , hz(half_cell_z_mm)
+    {}
+    double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const override
+    {
+      if (reading.tooth != load.tooth)
+        return 0.0;
+      const Eigen::Vector2d offset = developed_offset_mm(reading, load, r_b);
+      return half_space::rectangle_displacement_at_depth(offset.x(), offset.y(), depth, hu, hz,
+                                                         1.0 / (4.0 * hu * hz),
+                                                         material.youngs_modulus_MPa,
+                                                         material.poisson_ratio);
+    }
+    double reference_depth_mm() const override { return depth; }
+
+  private:
+    Material material;
+    double            depth, r_b, hu, hz;
+  };
+} // namespace hertzgear::contact
