@@ -131,6 +131,18 @@ namespace hertzgear::stiffness
             {"lead_curvature_per_m", kappa_lead_per_mm * 1e3}};
   }
 
+  StiffnessResult ClosedFormSource::compute(const StiffnessInput &input, PhaseTimer &timer) const
+  {
+    check(input);
+    PhaseTimer::Scope             scope(timer, "closed-form stiffness");
+    const meshing::PairKinematics pair(input.pair);
+    ClosedFormPair                model(input, pair);
+    StiffnessResult               r = tabulate(input, model);
+    r.table.check();
+    summarise_rows(r);
+    return r;
+  }
+
   void check_closed_form_input(const StiffnessInput &input)
   {
     if (!(input.torque_Nm > 0))

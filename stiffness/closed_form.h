@@ -64,12 +64,19 @@ namespace hertzgear::stiffness
   // The input checks every closed-form source makes (torque, positions against harmonics).
   void check_closed_form_input(const StiffnessInput &input);
 
-  // A closed-form source: computed by the stiffness stage, checked by check_closed_form_input.
+  // A closed-form source: checked by check_closed_form_input; compute() builds the pair and its
+  // closed-form model and lets the source tabulate the cycle (the table is then checked and its
+  // rows summarised).
   class ClosedFormSource : public StiffnessSource
   {
   public:
     using StiffnessSource::StiffnessSource;
     void check(const StiffnessInput &input) const override { check_closed_form_input(input); }
+    StiffnessResult compute(const StiffnessInput &input, PhaseTimer &timer) const final;
+
+  protected:
+    // The rows and the table of the source (SI), from the pair and its model.
+    virtual StiffnessResult tabulate(const StiffnessInput &input, ClosedFormPair &model) const = 0;
   };
 
   // The mesh cycle along the path of contact with load sharing by compatibility (hertz-analytic

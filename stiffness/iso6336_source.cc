@@ -16,15 +16,13 @@ namespace hertzgear::stiffness
         : ClosedFormSource("iso6336", "ISO 6336-1 method B with Hertz closed forms")
       {}
 
+    protected:
       // Constant series: ISO's mesh stiffness ratio c_gamma_alpha / c' applied to the pair's
       // rest stiffness, eps_alpha pairs' worth of Hertzian stiffness at the pitch point.
-      StiffnessResult compute(const StiffnessInput &input, PhaseTimer &timer) const override
+      StiffnessResult tabulate(const StiffnessInput &input, ClosedFormPair &m) const override
       {
-        check(input);
-        PhaseTimer::Scope             scope(timer, "closed-form stiffness");
-        const meshing::PairKinematics pair(input.pair);
-        const ClosedFormPair          m(input, pair);
-        const double                  F0_N = m.load_N, eps = pair.contact_ratio();
+        const auto  &pair = m.pair;
+        const double F0_N = m.load_N, eps = pair.contact_ratio();
         const auto   c1    = m.contact(F0_N, pair.point('C').roll_distance_mm);
         const double k_h1  = F0_N / std::pow(c1.approach_mm, m.n);
         const double ratio = m.iso.c_gamma_alpha_N_per_mm_um / m.iso.c_prime_N_per_mm_um;
@@ -61,8 +59,6 @@ namespace hertzgear::stiffness
             t.samples.k_rest_N_per_m.push_back(row.k_rest_N_per_m);
             t.samples.ste_m.push_back(ste_mm * 1e-3);
           }
-        t.check();
-        summarise_rows(r);
         return r;
       }
     };

@@ -22,12 +22,10 @@ namespace hertzgear::stiffness
                                                "Hertz contact along the path of contact")
       {}
 
-      StiffnessResult compute(const StiffnessInput &input, PhaseTimer &timer) const override
+    protected:
+      StiffnessResult tabulate(const StiffnessInput &input, ClosedFormPair &m) const override
       {
-        check(input);
-        PhaseTimer::Scope             scope(timer, "closed-form stiffness");
-        const meshing::PairKinematics pair(input.pair);
-        ClosedFormPair                m(input, pair);
+        const auto &pair = m.pair;
         // Both teeth's compliance at the contact point at roll distance s: the pinion at roll
         // angle s / r_b1, the gear at (L - s) / r_b2.
         const auto teeth = [&](const double roll_mm, const bool plane_strain) {
@@ -66,8 +64,6 @@ namespace hertzgear::stiffness
         r.table.source = "potential-energy: tooth bending, shear and axial compliance (Yang & Lin, "
                          "Tian), fillet foundation (Sainsot et al. 2004), Hertz contact per pair, "
                          "load sharing by compatibility";
-        r.table.check();
-        summarise_rows(r);
         return r;
       }
     };
