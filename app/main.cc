@@ -7,7 +7,7 @@
 // Exit codes: 0 success, 2 bad input (scene, arguments, geometry), 3 numerical failure,
 // 1 anything else.
 #include "app/command.h"
-#include "app/stiffness_setup.h"
+#include "app/scene_keys.h"
 #include "common/errors.h"
 
 #include <hertzgear/version.h>
@@ -97,12 +97,12 @@ int main(int argc, char **argv)
     }
   catch (const InputError &e)
     {
-      std::cerr << "hertzgear: input error: " << e.what() << std::endl;
+      std::cerr << "hertzgear: input error: " << with_scene_keys(e.what()) << std::endl;
       return exit_bad_input;
     }
   catch (const NumericalError &e)
     {
-      std::cerr << "hertzgear: numerical failure: " << e.what() << std::endl;
+      std::cerr << "hertzgear: numerical failure: " << with_scene_keys(e.what()) << std::endl;
       return exit_numerical;
     }
 #ifdef HERTZGEAR_WITH_FEM

@@ -7,7 +7,6 @@
 #include "stiffness/registry.h"
 #include "stiffness/table_writer.h"
 
-#include <map>
 
 namespace hertzgear
 {
@@ -38,46 +37,6 @@ namespace hertzgear
       fs::remove_all(old);
     }
   } // namespace
-
-  std::string scene_message(const ParameterError &error)
-  {
-    // StiffnessInput's fields and the scene keys they are filled from (stiffness_input below).
-    static const std::map<std::string, std::string> keys = {
-      {"torque_Nm", "Operating/torque_Nm"},
-      {"positions_per_cycle", "Stiffness/positions_per_cycle"},
-      {"harmonics", "Stiffness/harmonics"},
-      {"hertz_exponent", "Stiffness/hertz_exponent"},
-      {"source", "Stiffness/source"},
-      {"table_file", "Stiffness/table_file"},
-      {"dimension", "Stiffness/fe_dimension"},
-      {"level", "Stiffness/fe_level"},
-      {"degree", "Stiffness/fe_degree"},
-      {"teeth_per_sector", "Mesh/teeth_per_sector"},
-      {"face_width_layers", "Mesh/face_width_layers"},
-      {"contact_grid_profile_cells", "Stiffness/contact_grid_profile_points"},
-      {"contact_grid_face_cells", "Stiffness/contact_grid_face_points"},
-      {"contact_max_iterations", "Stiffness/contact_max_iterations"},
-      {"reference_depth_mm", "Stiffness/reference_depth_mm"},
-      {"table_face_nodes", "Stiffness/table_face_nodes"},
-      {"table_roll_nodes", "Stiffness/table_roll_nodes"},
-      {"linear_solver", "Stiffness/linear_solver"}};
-    const auto key_of = [&](const std::string &field) {
-      const auto it = keys.find(field);
-      return it == keys.end() ? field : it->second;
-    };
-    std::string text = error.text();
-    for (std::size_t open = text.find('{'); open != std::string::npos; open = text.find('{', open + 1))
-      {
-        const std::size_t close = text.find('}', open);
-        if (close == std::string::npos)
-          break;
-        const std::string field = text.substr(open + 1, close - open - 1);
-        if (!keys.count(field))
-          continue;
-        text.replace(open, close - open + 1, key_of(field));
-      }
-    return key_of(error.parameter()) + " = " + text;
-  }
 
   stiffness::StiffnessInput stiffness_input(const Scene &scene)
   {

@@ -22,10 +22,6 @@ namespace hertzgear
   // Checks the scene's stiffness input as its source will (before any folder is made).
   void check_stiffness_input(const Scene &scene);
 
-  // The message of a ParameterError of the stiffness library with the field replaced by the scene
-  // key it came from ("torque_Nm = 0: ..." -> "Operating/torque_Nm = 0: ...").
-  std::string scene_message(const ParameterError &error);
-
   // Computes the scene's stiffness (collective under MPI for the FE source) and writes
   // stiffness.csv and stiffness.json into `dir` on the writing process; with `write_fields` an
   // FE source also writes fields/, renamed into place after the tables. Meshes go to mesh/.

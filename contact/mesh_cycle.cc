@@ -72,8 +72,8 @@ namespace hertzgear::contact
     , settings(settings)
   {
     HG_REQUIRE_INPUT(settings.n_positions >= 2 * settings.n_harmonics + 1,
-                     "Stiffness/positions_per_cycle = ", settings.n_positions,
-                     " is too few for Stiffness/harmonics = ", settings.n_harmonics,
+                     "{positions_per_cycle} = ", settings.n_positions,
+                     " is too few for {harmonics} = ", settings.n_harmonics,
                      "; a Fourier fit needs at least ", 2 * settings.n_harmonics + 1);
     HG_REQUIRE_INPUT(settings.profile_cells >= 4, "the contact grid needs at least 4 cells "
                                                   "across the profile, got ",
@@ -111,7 +111,7 @@ namespace hertzgear::contact
       HG_REQUIRE_INPUT(compliances[0]->covers_tooth(pair) && compliances[1]->covers_tooth(-pair),
                        "tooth pair ", pair, " can be in contact at mesh phase ", mesh_phase,
                        " but its teeth are not in the FE compliance table; mesh more teeth per "
-                       "sector (Mesh/teeth_per_sector)");
+                       "sector ({teeth_per_sector})");
 
     const auto  &pinion = kinematics.pinion();
     const auto  &gear   = kinematics.gear();
@@ -226,7 +226,7 @@ namespace hertzgear::contact
 
   PositionResult MeshCycle::solve_position(const double mesh_phase, const double load_N) const
   {
-    HG_REQUIRE_INPUT(load_N > 0, "the mesh load must be positive (Operating/torque_Nm > 0), got ",
+    HG_REQUIRE_INPUT(load_N > 0, "the mesh load must be positive ({torque_Nm} > 0), got ",
                      load_N, " N");
     const Grid            g   = build_grid(mesh_phase, band_half_width(load_N));
     const ContactSolution sol = solve_contact(g, load_N);
@@ -338,7 +338,7 @@ namespace hertzgear::contact
   MeshCycle::run(const double load_N,
                  const std::function<void(unsigned int, const PositionResult &)> &progress) const
   {
-    HG_REQUIRE_INPUT(load_N > 0, "the mesh load must be positive (Operating/torque_Nm > 0), got ",
+    HG_REQUIRE_INPUT(load_N > 0, "the mesh load must be positive ({torque_Nm} > 0), got ",
                      load_N, " N");
     MeshCycleResult result;
     result.load_N = load_N;

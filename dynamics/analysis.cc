@@ -13,7 +13,7 @@ namespace hertzgear::dynamics
                             std::vector<double> y, const ProgressCallback &progress)
   {
     HG_REQUIRE_INPUT(settings.periods > settings.transient_periods,
-                     "Dynamics/periods (", settings.periods, ") must exceed transient_periods (",
+                     "{periods} (", settings.periods, ") must exceed {transient_periods} (",
                      settings.transient_periods, ")");
     HG_REQUIRE_INPUT(settings.samples_per_period >= 1, "samples_per_period must be >= 1");
     HG_REQUIRE_INPUT(y.size() == model.n_states(), "initial state has ", y.size(),

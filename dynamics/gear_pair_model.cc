@@ -114,10 +114,9 @@ namespace hertzgear::dynamics
     HG_REQUIRE_INPUT(prm.half_backlash_m >= 0.0, "backlash must not be negative");
     if (prm.effects.hertzian_layer != HertzianLayer::off)
       HG_REQUIRE_INPUT(prm.stiffness.k_hertz_N_per_m_pow_n.mean > 0.0,
-                       "a Hertzian layer needs k_mh > 0 (Stiffness/Fourier/"
-                       "k_hertz_mean_N_per_m_pow_n or the table's k_hertz_N_per_m_pow_n)");
+                       "a Hertzian layer needs k_mh > 0 ({k_hertz_mean} or the table's k_hertz_N_per_m_pow_n)");
     HG_REQUIRE_INPUT(!prm.effects.ste_excitation || prm.stiffness.has_unloaded_ste,
-                     "Effects/ste_excitation = table needs an unloaded STE series in the stiffness "
+                     "{ste_excitation} = table needs an unloaded STE series in the stiffness "
                      "table (unloaded_ste_m)");
     // An effect that is off leaves the model: constant series instead of harmonic sums.
     if (!prm.effects.mesh_stiffness_variation)

@@ -402,7 +402,7 @@ namespace hertzgear::dynamics
           observer(t, y.data());
         const std::string remedy =
           "check that the scene is physical (positive stiffness and damping), or relax "
-          "Dynamics/relative_tolerance, or use Dynamics/integrator = cvode-bdf";
+          "{relative_tolerance}, or use {integrator} = cvode-bdf";
         const std::vector<double> bounds = system.blow_up_bounds();
         for (long out = 1; out <= n_outputs; ++out)
           {

@@ -128,9 +128,9 @@ namespace hertzgear::dynamics
     {
       if (name == "arkode-erk")
         return "the explicit integrator is limited by the stiffness of the Hertzian layer; use "
-               "Dynamics/integrator = cvode-bdf";
+               "{integrator} = cvode-bdf";
       return "check that the scene is physical (positive stiffness, damping c > 0 unless "
-             "integrator = ida), or relax Dynamics/relative_tolerance";
+             "integrator = ida), or relax {relative_tolerance}";
     }
 
     // Common driver of the output/event loop. `advance(tout, t)` takes one call of the

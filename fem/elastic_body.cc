@@ -409,10 +409,10 @@ namespace hertzgear
             KSPConvergedReasons[reason], " (", static_cast<int>(reason), ") after ", iterations,
             " CG iterations (cap ", max_iterations, "), relative residual ",
             rhs_norm > 0 ? residual / rhs_norm : residual, " against the tolerance ", rtol,
-            ". Loosen the tolerance (Stiffness/linear_solver_tolerance) if it is below what the "
+            ". Loosen the tolerance ({linear_solver_tolerance}) if it is below what the "
             "round-off allows (about 1e-12), raise the iteration cap or tune the AMG through "
             "PETSC_OPTIONS (e.g. -ksp_max_it, -pc_gamg_threshold), or use the direct solver "
-            "(Stiffness/linear_solver = direct) if memory allows."));
+            "({linear_solver} = direct) if memory allows."));
         }
       return finish_solution(solution);
     }

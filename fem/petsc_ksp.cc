@@ -145,9 +145,9 @@ namespace hertzgear
                        << "estimates " << est_max << " MB per process (" << est_sum
                        << " MB in all) against " << limit
                        << " MB per process (ICNTL(23): the memory available when the "
-                          "factorisation started, or PETSC_OPTIONS -mat_mumps_icntl_23); use a coarser Stiffness/fe_level, "
-                          "Stiffness/fe_degree or Mesh/face_width_layers, more MPI ranks on "
-                          "more memory, or Stiffness/linear_solver = amg-cg";
+                          "factorisation started, or PETSC_OPTIONS -mat_mumps_icntl_23); use a coarser {level}, "
+                          "{degree} or {face_width_layers}, more MPI ranks on "
+                          "more memory, or {linear_solver} = amg-cg";
                     why = os.str();
                   }
                   break;

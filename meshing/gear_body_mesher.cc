@@ -51,7 +51,7 @@ namespace hertzgear::meshing
         n_teeth = std::min(settings.teeth_per_sector, gear.n_teeth());
         // Physical tags 100 + k ... 400 + k must not overlap (the FE stage relies on them).
         HG_REQUIRE_INPUT(n_teeth <= 100, gear.parameters().name, ": ", n_teeth,
-                         " teeth in one mesh; at most 100 (set Mesh/teeth_per_sector <= 100)");
+                         " teeth in one mesh; at most 100 (set {teeth_per_sector} <= 100)");
         full    = settings.teeth_per_sector >= gear.n_teeth();
         central = GearBodyMesher::central_tooth(n_teeth);
         z0      = settings.dimension == 3 ? -0.5 * gear.face_width_mm() : 0.0;

@@ -22,7 +22,7 @@ namespace hertzgear::stiffness
         t.hertz_exponent        = input.hertz_exponent;
         t.k_rest_N_per_m        = input.k_rest_N_per_m;
         t.k_hertz_N_per_m_pow_n = input.k_hertz_N_per_m_pow_n;
-        t.source                = "scene Stiffness/Fourier";
+        t.source                = "Fourier coefficients of the scene";
         if (input.unloaded_ste_from_table)
           {
             const auto from_file = dynamics::read_stiffness_table(input.table_file);

@@ -1,0 +1,18 @@
+#pragma once
+// The libraries below app/ name their own input fields in messages: a ParameterError names the
+// offending field, and any message may name further fields as {field}. This maps those names to
+// the scene keys they are filled from, so that a user reads the key to change.
+#include "common/errors.h"
+
+#include <string>
+
+namespace hertzgear
+{
+  // "{teeth_per_sector}" -> "Mesh/teeth_per_sector" for every field the libraries name; other
+  // braces are left as they are.
+  std::string with_scene_keys(const std::string &text);
+
+  // The message of a ParameterError with its field (and the fields it names) as scene keys:
+  // "torque_Nm = 0: ..." -> "Operating/torque_Nm = 0: ...".
+  std::string scene_message(const ParameterError &error);
+} // namespace hertzgear
