@@ -14,17 +14,12 @@
 #include "common/errors.h"
 #include "common/processes.h"
 #include "common/progress.h"
-
+#include "dynamics/sweep.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <cmath>
 #include <iostream>
-#include <mutex>
-#include <numeric>
 #include <sstream>
-#include <thread>
 
 namespace hertzgear
 {
@@ -211,239 +206,110 @@ namespace hertzgear
       return 0;
     }
 
-    struct SweepRow
+    // The sweep's plain inputs from Sweep/* and --threads.
+    SweepSettings sweep_settings(const Scene &scene, const int n_threads)
     {
-      double              speed_rpm = 0;
-      std::string         direction;
-      SteadyStateSummary  summary;
-      std::vector<double> poincare_dte_m;
-    };
+      const auto   &w = scene.sweep;
+      SweepSettings s;
+      s.speed_min_rpm               = w.speed_min_rpm;
+      s.speed_max_rpm               = w.speed_max_rpm;
+      s.points                      = w.points;
+      s.direction                   = sweep_direction_from_name(w.direction);
+      s.mode                        = sweep_mode_from_name(w.mode);
+      s.periods_per_point           = w.periods_per_point;
+      s.transient_periods_per_point = w.transient_periods_per_point;
+      s.threads                     = std::max(0, n_threads); // < 0 as 0, as --threads did
+      return s;
+    }
 
-    // Under mpirun: every rank sends the rows of its jobs (and its failure, if any) to all ranks,
-    // so that each rank ends with the whole table, or all of them with the same error.
-    void gather_sweep_rows(std::exception_ptr &failure,
-                           std::vector<std::vector<SweepRow>> &rows, IntegratorStats &stats)
+    // A ParameterError of SweepSettings as an InputError about the scene key (or --threads).
+    InputError sweep_input_error(const ParameterError &e)
     {
-      nlohmann::json mine = {{"rows", nlohmann::json::array()}};
-      for (std::size_t j = 0; j < rows.size(); ++j)
-        for (const auto &r : rows[j])
-          mine["rows"].push_back({{"job", j},
-                                  {"speed_rpm", r.speed_rpm},
-                                  {"direction", r.direction},
-                                  {"rms", r.summary.rms_dte_m},
-                                  {"min", r.summary.min_dte_m},
-                                  {"max", r.summary.max_dte_m},
-                                  {"dynamic_factor", r.summary.dynamic_factor},
-                                  {"contact_loss_fraction", r.summary.contact_loss_fraction},
-                                  {"period", r.summary.period_multiplicity},
-                                  {"poincare", r.poincare_dte_m}});
-      mine["stats"] = integrator_json(stats);
-      if (failure)
-        try
-          {
-            std::rethrow_exception(failure);
-          }
-        catch (const std::exception &e)
-          {
-            mine["error"] = {{"code", exit_code_of(e)}, {"what", e.what()}};
-          }
-      const auto all = processes::all_gather(mine.dump());
-      for (auto &job_rows : rows)
-        job_rows.clear();
-      stats = IntegratorStats{};
-      for (std::size_t r = 0; r < all.size(); ++r)
+      const auto key_of = [](const std::string &field) {
+        return field == "threads" ? std::string("--threads") : "Sweep/" + field;
+      };
+      std::string text = e.text();
+      for (std::size_t open = text.find('{'); open != std::string::npos; open = text.find('{', open))
         {
-          const auto part = nlohmann::json::parse(all[r]);
-          if (part.contains("error") && !failure)
-            {
-              const std::string what = msg("sweep rank ", r, ": ", part["error"]["what"].get<std::string>());
-              try
-                {
-                  throw_for_exit_code(part["error"]["code"].get<int>(), what);
-                }
-              catch (...)
-                {
-                  failure = std::current_exception();
-                }
-            }
-          for (const auto &row : part["rows"])
-            {
-              SweepRow x;
-              x.speed_rpm                           = row["speed_rpm"];
-              x.direction                           = row["direction"];
-              x.summary.rms_dte_m                   = row["rms"];
-              x.summary.min_dte_m                   = row["min"];
-              x.summary.max_dte_m                   = row["max"];
-              x.summary.dynamic_factor              = row["dynamic_factor"];
-              x.summary.contact_loss_fraction       = row["contact_loss_fraction"];
-              x.summary.period_multiplicity         = row["period"];
-              x.poincare_dte_m                      = row["poincare"].get<std::vector<double>>();
-              rows[row["job"].get<std::size_t>()].push_back(x);
-            }
-          const auto &st = part["stats"];
-          IntegratorStats s;
-          s.name           = st["name"];
-          s.steps          = st["steps"];
-          s.rejected_steps = st["rejected_steps"];
-          s.rhs_evals      = st["rhs_evals"];
-          s.jacobian_evals = st["jacobian_evals"];
-          s.root_evals     = st["root_evals"];
-          s.events         = st["events"];
-          s.wall_time_s    = st["wall_time_s"];
-          stats += s;
-          if (stats.name.empty())
-            stats.name = s.name;
+          const std::size_t close = text.find('}', open);
+          if (close == std::string::npos)
+            break;
+          const std::string key = key_of(text.substr(open + 1, close - open - 1));
+          text.replace(open, close - open + 1, key);
+          open += key.size();
         }
+      return InputError(key_of(e.parameter()) + " = " + text);
+    }
+
+    // "[sweep] rank 1: up point 3/8  2928.57 rpm  rms DTE 108.99 um  period 1  (0.4 s)"
+    void sweep_progress_line(const SweepPointDone &p)
+    {
+      progress_line("sweep", msg(p.n_ranks > 1 ? msg("rank ", p.rank, ": ") : std::string(),
+                                 sweep_branch_name(p.row.branch), " point ", p.done, "/", p.total,
+                                 "  ", p.row.speed_rpm, " rpm  rms DTE ",
+                                 1e6 * p.row.summary.rms_dte_m, " um  period ",
+                                 p.row.summary.period_multiplicity, "  (", p.elapsed_s, " s)"));
+    }
+
+    std::string sweep_csv_text(const std::vector<SweepRow> &rows)
+    {
+      std::ostringstream os;
+      os << "speed_rpm,direction,rms_dte_um,min_dte_um,max_dte_um,dynamic_factor,"
+            "contact_loss_fraction,period_multiplicity\n";
+      for (const auto &r : rows)
+        os << csv_number(r.speed_rpm) << ',' << sweep_branch_name(r.branch) << ','
+           << csv_number(1e6 * r.summary.rms_dte_m) << ','
+           << csv_number(1e6 * r.summary.min_dte_m) << ','
+           << csv_number(1e6 * r.summary.max_dte_m) << ','
+           << csv_number(r.summary.dynamic_factor) << ','
+           << csv_number(r.summary.contact_loss_fraction) << ','
+           << r.summary.period_multiplicity << '\n';
+      return os.str();
+    }
+
+    // The Poincare points of the independent runs when there are any, else those of the chains.
+    std::string bifurcation_csv_text(const std::vector<SweepRow> &rows, const bool independent)
+    {
+      std::ostringstream os;
+      os << "speed_rpm,poincare_dte_um\n";
+      for (const auto &r : rows)
+        if (independent == (r.branch == SweepBranch::independent))
+          for (const double x : r.poincare_dte_m)
+            os << csv_number(r.speed_rpm) << ',' << csv_number(1e6 * x) << '\n';
+      return os.str();
     }
   } // namespace
 
   SweepStageOutput run_sweep_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer,
                                    const int n_threads_requested)
   {
-      const auto &w = scene.sweep;
-      HG_REQUIRE_INPUT(w.speed_max_rpm > w.speed_min_rpm, "Sweep/speed_max_rpm (", w.speed_max_rpm,
-                       ") must exceed Sweep/speed_min_rpm (", w.speed_min_rpm, ")");
-      HG_REQUIRE_INPUT(w.periods_per_point > w.transient_periods_per_point,
-                       "Sweep/periods_per_point must exceed Sweep/transient_periods_per_point");
-      DynamicsSetup base = make_dynamics_setup(scene);
-      base.run.periods           = w.periods_per_point;
-      base.run.transient_periods = w.transient_periods_per_point;
-      std::vector<double> speeds(w.points);
-      for (int i = 0; i < w.points; ++i)
-        speeds[i] = w.speed_min_rpm + (w.speed_max_rpm - w.speed_min_rpm) * i / (w.points - 1);
-
-      // Jobs: a continuation chain (up or down) is one sequential job; every independent point
-      // is its own job. Under mpirun job j runs on rank j mod (number of ranks); on each rank the
-      // jobs run on threads. Rank 0 gathers the rows and writes the tables.
-      struct Job
+    SweepSettings settings;
+    try
       {
-        std::string      direction;
-        std::vector<int> points; // indices into speeds, in order
-      };
-      std::vector<Job> jobs;
-      const bool continuation = w.mode != "independent", independent = w.mode != "continuation";
-      if (continuation && w.direction != "down")
-        {
-          jobs.push_back({"up", {}});
-          for (int i = 0; i < w.points; ++i)
-            jobs.back().points.push_back(i);
-        }
-      if (continuation && w.direction != "up")
-        {
-          jobs.push_back({"down", {}});
-          for (int i = w.points - 1; i >= 0; --i)
-            jobs.back().points.push_back(i);
-        }
-      if (independent)
-        for (int i = 0; i < w.points; ++i)
-          jobs.push_back({"independent", {i}});
-
-      const auto rank    = static_cast<std::size_t>(processes::rank());
-      const auto n_ranks = static_cast<std::size_t>(processes::count());
-      std::vector<std::size_t> my_jobs;
-      int                      n_points = 0;
-      for (std::size_t j = 0; j < jobs.size(); ++j)
-        if (j % n_ranks == rank)
-          {
-            my_jobs.push_back(j);
-            n_points += int(jobs[j].points.size());
-          }
-      std::vector<std::vector<SweepRow>> rows(jobs.size());
-      std::atomic<std::size_t>           next_job{0};
-      std::atomic<int>                   done{0};
-      std::mutex                         mutex;
-      std::exception_ptr                 failure;
-      IntegratorStats                    total_stats;
-      const auto                         start = std::chrono::steady_clock::now();
-
-      auto worker = [&]() {
-        for (std::size_t k = next_job++; k < my_jobs.size(); k = next_job++)
-          {
-            const std::size_t j = my_jobs[k];
-            try
-              {
-                std::vector<double> y;
-                for (const int i : jobs[j].points)
-                  {
-                    const DynamicsSetup setup = at_speed(base, speeds[i]);
-                    GearPairModel       model(setup.parameters);
-                    if (y.empty())
-                      y = initial_state(scene, model);
-                    const SimulationResult r = simulate(model, setup.run, y);
-                    if (jobs[j].direction != "independent")
-                      y = r.final_state; // continuation: the next speed starts here
-                    SweepRow row{speeds[i], jobs[j].direction, analyse(model, r), {}};
-                    for (const auto &p : r.poincare)
-                      row.poincare_dte_m.push_back(p.dte_m);
-                    rows[j].push_back(row);
-                    std::lock_guard<std::mutex> lock(mutex);
-                    total_stats += r.stats;
-                    progress_line("sweep",
-                                  msg(n_ranks > 1 ? msg("rank ", rank, ": ") : std::string(),
-                                      jobs[j].direction, " point ", ++done, "/", n_points, "  ",
-                                      speeds[i], " rpm  rms DTE ", 1e6 * row.summary.rms_dte_m,
-                                      " um  period ", row.summary.period_multiplicity, "  (",
-                                      std::chrono::duration<double>(
-                                        std::chrono::steady_clock::now() - start)
-                                        .count(),
-                                      " s)"));
-                  }
-              }
-            catch (...)
-              {
-                std::lock_guard<std::mutex> lock(mutex);
-                if (!failure)
-                  failure = std::current_exception();
-                next_job = my_jobs.size();
-              }
-          }
-      };
-      {
-        PhaseTimer::Scope scope(timer, "integrate");
-        // Default: the hardware threads shared among the ranks.
-        const int n_threads = std::max(
-          1, std::min<int>(n_threads_requested > 0 ?
-                             n_threads_requested :
-                             int(std::thread::hardware_concurrency() / n_ranks),
-                           my_jobs.size()));
-        std::vector<std::thread> threads;
-        for (int t = 0; t < n_threads; ++t)
-          threads.emplace_back(worker);
-        for (auto &t : threads)
-          t.join();
+        settings = sweep_settings(scene, n_threads_requested);
+        check_sweep_settings(settings);
       }
-      if (n_ranks > 1)
-        gather_sweep_rows(failure, rows, total_stats);
-      if (failure)
-        std::rethrow_exception(failure);
-
-      std::ostringstream sweep_csv, bifurcation_csv;
-      sweep_csv << "speed_rpm,direction,rms_dte_um,min_dte_um,max_dte_um,dynamic_factor,"
-                   "contact_loss_fraction,period_multiplicity\n";
-      bifurcation_csv << "speed_rpm,poincare_dte_um\n";
-      // Bifurcation points from the independent runs when there are any, else from all chains.
-      for (const auto &job_rows : rows)
-        for (const auto &r : job_rows)
-          {
-            sweep_csv << csv_number(r.speed_rpm) << ',' << r.direction << ','
-                      << csv_number(1e6 * r.summary.rms_dte_m) << ','
-                      << csv_number(1e6 * r.summary.min_dte_m) << ','
-                      << csv_number(1e6 * r.summary.max_dte_m) << ','
-                      << csv_number(r.summary.dynamic_factor) << ','
-                      << csv_number(r.summary.contact_loss_fraction) << ','
-                      << r.summary.period_multiplicity << '\n';
-            if (independent == (r.direction == "independent"))
-              for (const double x : r.poincare_dte_m)
-                bifurcation_csv << csv_number(r.speed_rpm) << ',' << csv_number(1e6 * x) << '\n';
-          }
-      if (dir)
-        {
-          PhaseTimer::Scope scope(timer, "write");
-          dir->write_text("sweep.csv", sweep_csv.str());
-          dir->write_text("bifurcation.csv", bifurcation_csv.str());
-        }
-      return {sweep_csv.str(), integrator_json(total_stats)};
+    catch (const ParameterError &e)
+      {
+        throw sweep_input_error(e);
+      }
+    const DynamicsSetup setup = make_dynamics_setup(scene);
+    const SweepModel    model{setup.parameters, setup.speed_rpm, setup.run, initial_state(scene)};
+    SweepResult         result;
+    {
+      PhaseTimer::Scope scope(timer, "integrate");
+      result = dynamics::sweep(model, settings, sweep_progress_line);
     }
+    const std::string sweep_csv = sweep_csv_text(result.rows);
+    if (dir)
+      {
+        PhaseTimer::Scope scope(timer, "write");
+        dir->write_text("sweep.csv", sweep_csv);
+        dir->write_text("bifurcation.csv",
+                        bifurcation_csv_text(result.rows, settings.mode != SweepMode::continuation));
+      }
+    return {sweep_csv, integrator_json(result.stats)};
+  }
 
   namespace
   {

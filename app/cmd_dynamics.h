@@ -26,8 +26,9 @@ namespace hertzgear
     std::string    sweep_csv;  // what sweep.csv holds
     nlohmann::json integrator; // summed integrator statistics
   };
-  // The speed sweep of Sweep/*: writes sweep.csv and bifurcation.csv into `dir` when given.
-  // `n_threads` 0 = all hardware threads. Used by `hertzgear sweep` and `hertzgear run`.
+  // The speed sweep of Sweep/* (the engine is dynamics/sweep.h): writes sweep.csv and
+  // bifurcation.csv into `dir` when given. `n_threads` 0 = all hardware threads. Collective under
+  // mpirun (every rank calls it). Used by `hertzgear sweep` and `hertzgear run`.
   SweepStageOutput run_sweep_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer,
                                    int n_threads);
 } // namespace hertzgear

@@ -109,21 +109,20 @@ namespace hertzgear
     return s;
   }
 
-  DynamicsSetup at_speed(const DynamicsSetup &setup, const double speed_rpm)
+  dynamics::InitialState initial_state(const Scene &scene)
   {
-    DynamicsSetup s = setup;
-    s.parameters.mesh_frequency_rad_per_s *= speed_rpm / setup.speed_rpm;
-    s.speed_rpm = speed_rpm;
+    const auto            &d = scene.dynamics;
+    dynamics::InitialState s;
+    s.static_equilibrium = d.initial_state == "static";
+    s.dte_m              = 1e-6 * d.initial_dte_um;
+    s.dte_rate_m_per_s   = d.initial_dte_rate_m_per_s;
+    s.penetration_m      = 1e-6 * d.initial_penetration_um;
     return s;
   }
 
   std::vector<double> initial_state(const Scene &scene, const dynamics::GearPairModel &model)
   {
-    const auto &d = scene.dynamics;
-    if (d.initial_state == "static")
-      return model.static_equilibrium_state();
-    return model.state(1e-6 * d.initial_dte_um, d.initial_dte_rate_m_per_s,
-                       1e-6 * d.initial_penetration_um);
+    return initial_state(scene).of(model);
   }
 
   nlohmann::json DynamicsSetup::describe() const

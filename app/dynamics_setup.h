@@ -4,6 +4,7 @@
 #include "app/scene.h"
 #include "dynamics/analysis.h"
 #include "dynamics/gear_pair_model.h"
+#include "dynamics/sweep.h"
 
 #include <nlohmann/json.hpp>
 
@@ -32,9 +33,8 @@ namespace hertzgear
   // Throws InputError for a scene the dynamics cannot run (unknown source, c = 0 without ida...).
   DynamicsSetup make_dynamics_setup(const Scene &scene);
 
-  // The same set-up at another pinion speed (sweeps).
-  DynamicsSetup at_speed(const DynamicsSetup &setup, double speed_rpm);
-
-  // Initial state per Dynamics/initial_state (static equilibrium or the given values).
+  // Dynamics/initial_state (static equilibrium or the given values) in SI units.
+  dynamics::InitialState initial_state(const Scene &scene);
+  // That initial state of `model`.
   std::vector<double> initial_state(const Scene &scene, const dynamics::GearPairModel &model);
 } // namespace hertzgear
