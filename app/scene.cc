@@ -5,11 +5,9 @@
 #include "common/errors.h"
 #include "app/meshing_setup.h"
 #include "common/hash.h"
+#include "common/parameter_file.h"
 #include "meshing/gear_geometry.h"
 #include "stiffness/registry.h"
-
-#include <deal.II/base/parameter_handler.h>
-#include <deal.II/base/patterns.h>
 
 #include <nlohmann/json.hpp>
 
@@ -23,8 +21,7 @@
 namespace hertzgear
 {
   namespace fs = std::filesystem;
-  using dealii::ParameterHandler;
-  namespace Patterns = dealii::Patterns;
+  namespace Patterns = patterns;
 
   namespace
   {
@@ -60,7 +57,7 @@ namespace hertzgear
     class SceneSchema
     {
     public:
-      ParameterHandler       prm;
+      ParameterFile          prm;
       std::vector<EntryInfo> entries;
       std::vector<std::string> section_help; // "Section|help"
 
@@ -77,13 +74,14 @@ namespace hertzgear
         path.pop_back();
       }
 
+      // Every scene entry needs a help text (ParameterFile::add refuses an empty one).
       template <typename T>
-      void add(const std::string &key, T &value, const Patterns::PatternBase &pattern,
+      void add(const std::string &key, T &value, const Patterns::Pattern &pattern,
                const std::string &help)
       {
-        Assert(!help.empty(), dealii::ExcMessage("every scene entry needs a help text"));
-        prm.add_parameter(key, value, help, pattern);
-        entries.push_back({current_section(), key, prm.get(key), pattern.description(), help});
+        const auto &entry = prm.add(key, value, pattern, help);
+        entries.push_back(
+          {current_section(), key, entry.default_text(), pattern.description(), help});
       }
 
       std::string current_section() const
@@ -500,25 +498,17 @@ namespace hertzgear
                        "\" in section \"", section, "\" (see `hertzgear defaults`)");
       const std::string value = trim(text.substr(eq + 1));
 
-      std::vector<std::string> parts;
-      std::stringstream        ss(section);
-      for (std::string p; std::getline(ss, p, '/');)
-        parts.push_back(p);
-      for (const auto &p : parts)
-        schema.prm.enter_subsection(p);
+      HG_REQUIRE_INPUT(schema.prm.find(section, key)->pattern().match(value), "--set \"", text,
+                       "\": value \"", value, "\" for ", section, "/", key,
+                       " is not allowed; allowed: ", entry->allowed);
       try
         {
-          schema.prm.set(key, value);
+          schema.prm.set(section, key, value);
         }
-      catch (const dealii::ExceptionBase &)
+      catch (const ParameterFileError &e)
         {
-          for (std::size_t i = 0; i < parts.size(); ++i)
-            schema.prm.leave_subsection();
-          throw InputError(msg("--set \"", text, "\": value \"", value, "\" for ", section, "/",
-                               key, " is not allowed; allowed: ", entry->allowed));
+          throw InputError(msg("--set \"", text, "\": ", e.what()));
         }
-      for (std::size_t i = 0; i < parts.size(); ++i)
-        schema.prm.leave_subsection();
     }
 
     // Cross-field checks that a range pattern cannot express.
@@ -604,9 +594,8 @@ namespace hertzgear
     }
 
     // A JSON scene is the same tree as a .prm file: objects are subsections, scalars (or
-    // {"value": ...} objects, as deal.II writes them) are entries, arrays are comma lists. It is
-    // converted to .prm text so that both formats share one parser and one set of checks; the
-    // comment on each line names the JSON path for error messages.
+    // {"value": ...} objects) are entries, arrays are comma lists. It is converted to .prm text
+    // so that both formats share one parser and one set of checks.
     void json_to_prm(const nlohmann::json &node, const std::string &json_path, int depth,
                      std::ostream &out)
     {
@@ -639,39 +628,7 @@ namespace hertzgear
             }
         }
     }
-
-    std::string print(ParameterHandler &prm, ParameterHandler::OutputStyle style)
-    {
-      std::ostringstream os;
-      prm.print_parameters(os, style);
-      return os.str();
-    }
   } // namespace
-
-  // deal.II's exception texts start with a source location meant for developers; users get
-  // the "Additional information" part only.
-  std::string user_message(const dealii::ExceptionBase &e)
-  {
-    std::ostringstream os;
-    e.print_info(os);
-    std::string text = os.str();
-    // collapse deal.II's indentation into single spaces
-    std::string out;
-    bool        space = false;
-    for (const char c : text)
-      {
-        if (c == '\n' || c == ' ' || c == '\t')
-          space = !out.empty();
-        else
-          {
-            if (space)
-              out += ' ';
-            out += c;
-            space = false;
-          }
-      }
-    return out;
-  }
 
   Scene load_scene(const fs::path &file, const std::vector<std::string> &overrides)
   {
@@ -711,14 +668,15 @@ namespace hertzgear
                 std::ostringstream prm_text;
                 json_to_prm(tree, "", 0, prm_text);
                 std::istringstream in(prm_text.str());
-                schema.prm.parse_input(in, file.string() + " (as .prm)", "", false);
+                schema.prm.parse(in, file.string() + " (as .prm)");
               }
             else
-              schema.prm.parse_input(file.string(), "", false, false);
+              schema.prm.parse_file(file);
           }
-        catch (const dealii::ExceptionBase &e)
+        catch (const ParameterFileError &e)
           {
-            throw InputError(msg("scene file ", file.string(), ": ", user_message(e)));
+            // e names the source and the line
+            throw InputError(msg("scene file ", e.what()));
           }
         catch (const std::exception &e)
           {
@@ -735,10 +693,9 @@ namespace hertzgear
 
     check_consistency(sc);
 
-    sc.used_parameters_prm =
-      print(schema.prm, ParameterHandler::OutputStyle(ParameterHandler::PRM |
-                                                      ParameterHandler::KeepDeclarationOrder));
-    sc.hash = hash_hex(print(schema.prm, ParameterHandler::ShortPRM));
+    sc.used_parameters_prm = schema.prm.print(ParameterFile::Style::documented);
+    sc.hash = hash_hex(schema.prm.print(ParameterFile::Style::short_form,
+                                        ParameterFile::Order::alphabetical));
     return sc;
   }
 
@@ -749,8 +706,7 @@ namespace hertzgear
     declare_scene(schema, sc);
     return "# hertzgear default scene: every entry with its unit, allowed range and meaning.\n"
            "# Lines starting with '#' are comments; `hertzgear check FILE` validates a scene.\n" +
-           print(schema.prm, ParameterHandler::OutputStyle(ParameterHandler::PRM |
-                                                           ParameterHandler::KeepDeclarationOrder));
+           schema.prm.print(ParameterFile::Style::documented);
   }
 
   std::string scene_reference_markdown()
@@ -763,8 +719,8 @@ namespace hertzgear
        << "Generated by `hertzgear defaults --markdown` from the parameter declarations in "
           "`app/scene.cc`; a test fails when this file and the declarations differ. Regenerate with\n"
           "`build/app/hertzgear defaults --markdown > docs/scenes.md`.\n\n"
-       << "A scene is a deal.II parameter file (`.prm`, or the same tree as `.json`). Every "
-          "value can be overridden on the command line with "
+       << "A scene is a parameter file (`.prm`: `subsection NAME`, `set key = value` and `end` "
+          "lines, `#` comments; or the same tree as `.json`). Every value can be overridden on the command line with "
           "`--set \"Section/Subsection/key=value\"`. Units are in the key names; counts and "
           "dimensionless coefficients say so in their meaning.\n";
     std::string last_section;

@@ -1,18 +1,12 @@
 #pragma once
 // The scene: every value a user may set, in the units gear engineers use (unit in the name),
-// resolved into plain structs. Parsing, range checks and help texts live in scene.cc (deal.II
-// ParameterHandler); nothing below needs deal.II headers (one message helper takes a forward-declared
-// deal.II exception), so stages take plain values.
+// resolved into plain structs. Parsing, range checks and help texts live in scene.cc (on
+// common/parameter_file); stages take plain values.
 #include "common/material.h"
 
 #include <filesystem>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ExceptionBase;
-}
 
 namespace hertzgear
 {
@@ -158,10 +152,6 @@ namespace hertzgear
   {
     std::string text;
   };
-
-  // The "additional information" of a deal.II exception (ParameterHandler's messages) on one
-  // line, without the source location meant for developers.
-  std::string user_message(const dealii::ExceptionBase &e);
 
   // Read a scene (.prm or .json; an empty path gives the built-in defaults), apply overrides in
   // order, check ranges and cross-field consistency. Throws InputError naming the file, line and

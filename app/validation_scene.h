@@ -1,6 +1,6 @@
 #pragma once
 // Scenes of the Hertz validation study (`hertzgear validate hertz`, data/scenes/validation/):
-// one small deal.II parameter file per canonical case, every key with its unit, range and help
+// one small parameter file (.prm) per canonical case, every key with its unit, range and help
 // text (docs/validation-hertz.md). Kept apart from the gear scene (app/scene.h).
 #include <filesystem>
 #include <string>

@@ -1,0 +1,223 @@
+#pragma once
+// A declarative parameter set and its text form, the parameter file (.prm):
+//
+//   # a comment runs to the end of the line
+//   subsection Gear pair
+//     subsection Pinion
+//       set teeth = 23
+//     end
+//   end
+//
+// Entries are declared in nested subsections, each with a pattern (the allowed values), a help
+// text and a variable of the caller that receives the value: its value at declaration is the
+// default. Reading a file checks every value against its pattern, converts it and assigns the
+// variable; errors name the source, the line and the key. Printing gives the documented form
+// (help texts as comments, `# default:` where a value differs) or a short form for hashes.
+//
+// Keywords are `subsection`, `set` and `end` (or all upper case). Tabs count as spaces; a line
+// ending in CR LF is read as ending in LF. Refused: a key set twice in one file, an `end` without
+// an open subsection, a subsection without its `end`, a control character other than tab before
+// the comment, and a line ending in a backslash (there are no continuation lines).
+#include "common/errors.h"
+
+#include <filesystem>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hertzgear
+{
+  namespace patterns
+  {
+    // What values an entry allows; description() is the text the printed documentation and the
+    // error messages show, e.g. "[Integer range 6...1000 (inclusive)]".
+    class Pattern
+    {
+    public:
+      virtual ~Pattern() = default;
+      virtual bool                     match(const std::string &text) const = 0;
+      virtual std::string              description() const                 = 0;
+      virtual std::unique_ptr<Pattern> clone() const                       = 0;
+    };
+
+    // An integer in [lower, upper]; white space around it is allowed, nothing else ("7.0" is not).
+    class Integer final : public Pattern
+    {
+    public:
+      Integer(int lower, int upper);
+      bool                     match(const std::string &text) const override;
+      std::string              description() const override;
+      std::unique_ptr<Pattern> clone() const override;
+
+    private:
+      int lower, upper;
+    };
+
+    // A finite number in [lower, upper], read as C++ streams read a double ("1e6", ".5", "+3").
+    class Double final : public Pattern
+    {
+    public:
+      Double(double lower, double upper);
+      bool                     match(const std::string &text) const override;
+      std::string              description() const override;
+      std::unique_ptr<Pattern> clone() const override;
+
+    private:
+      double lower, upper;
+    };
+
+    // Exactly "true" or "false".
+    class Bool final : public Pattern
+    {
+    public:
+      bool                     match(const std::string &text) const override;
+      std::string              description() const override;
+      std::unique_ptr<Pattern> clone() const override;
+    };
+
+    // One of the choices of "a|b|c", matched exactly.
+    class Selection final : public Pattern
+    {
+    public:
+      explicit Selection(const std::string &choices);
+      bool                     match(const std::string &text) const override;
+      std::string              description() const override;
+      std::unique_ptr<Pattern> clone() const override;
+
+    private:
+      std::string choices;
+    };
+
+    // Any text.
+    class Anything final : public Pattern
+    {
+    public:
+      bool                     match(const std::string &text) const override;
+      std::string              description() const override;
+      std::unique_ptr<Pattern> clone() const override;
+    };
+
+    // min_length to max_length elements, each matching `element`, split at `separator` (see
+    // split_list); "" is the empty list.
+    class List final : public Pattern
+    {
+    public:
+      List(const Pattern &element, unsigned int min_length, unsigned int max_length,
+           const std::string &separator = ",");
+      List(const List &other);
+      bool                     match(const std::string &text) const override;
+      std::string              description() const override;
+      std::unique_ptr<Pattern> clone() const override;
+      const Pattern           &element() const { return *element_pattern; }
+      const std::string       &separator() const { return sep; }
+
+    private:
+      std::unique_ptr<Pattern> element_pattern;
+      unsigned int             min_length, max_length;
+      std::string              sep;
+    };
+
+    // The elements of a list value: split at each separator, spaces around an element removed;
+    // trailing spaces and one trailing separator are ignored ("1, 2," is {"1", "2"}, "" is {}).
+    std::vector<std::string> split_list(const std::string &text, const std::string &separator);
+  } // namespace patterns
+
+  // Bad parameter input: what() reads "<source>, line <n>: <text>" (or "<source>: <text>" when no
+  // line applies, or "<text>" without a source).
+  class ParameterFileError : public InputError
+  {
+  public:
+    ParameterFileError(const std::string &source, unsigned int line, const std::string &text);
+    const std::string &source() const { return source_name; }
+    unsigned int       line() const { return line_number; }
+    const std::string &text() const { return message; }
+
+  private:
+    std::string  source_name;
+    unsigned int line_number;
+    std::string  message;
+  };
+
+  class ParameterFile
+  {
+  public:
+    class Entry
+    {
+    public:
+      const std::string       &key() const { return name; }
+      const std::string       &section() const { return section_path; } // "Gear pair/Pinion"
+      const std::string       &help() const { return documentation; }
+      const std::string       &default_text() const { return default_value; }
+      const std::string       &text() const { return value; } // as last set
+      const patterns::Pattern &pattern() const { return *allowed; }
+
+    private:
+      friend class ParameterFile;
+      std::string                              name, section_path, documentation;
+      std::string                              default_value, value;
+      std::unique_ptr<patterns::Pattern>       allowed;
+      std::function<void(const std::string &)> assign; // converts and stores into the variable
+    };
+
+    enum class Style
+    {
+      documented, // header, help texts as wrapped comments, "# default:" where a value differs
+      short_form  // entries and subsections only (for hashes)
+    };
+    enum class Order
+    {
+      declaration,
+      alphabetical // by name, subsections after entries at each level
+    };
+
+    ParameterFile();
+    ~ParameterFile();
+    ParameterFile(const ParameterFile &)            = delete;
+    ParameterFile &operator=(const ParameterFile &) = delete;
+
+    // Declaration. enter_subsection creates the subsection or re-enters it. add binds `value`
+    // (which must outlive this object) and takes its current value as the default; a default the
+    // pattern refuses, an empty help text or a key declared twice is a programming error
+    // (std::logic_error).
+    void         enter_subsection(const std::string &name);
+    void         leave_subsection();
+    const Entry &add(const std::string &key, int &value, const patterns::Pattern &pattern,
+                     const std::string &help);
+    const Entry &add(const std::string &key, double &value, const patterns::Pattern &pattern,
+                     const std::string &help);
+    const Entry &add(const std::string &key, bool &value, const patterns::Pattern &pattern,
+                     const std::string &help);
+    const Entry &add(const std::string &key, std::string &value, const patterns::Pattern &pattern,
+                     const std::string &help);
+    // The pattern must be a patterns::List of patterns::Double elements.
+    const Entry &add(const std::string &key, std::vector<double> &value,
+                     const patterns::Pattern &pattern, const std::string &help);
+
+    // Reads parameter-file text; `source` names it in messages. Throws ParameterFileError.
+    void parse(std::istream &in, const std::string &source);
+    // Reads a file; messages name it as given.
+    void parse_file(const std::filesystem::path &file);
+
+    // The entry `key` of subsection `section` ("Gear pair/Pinion", "" for the top level), or null.
+    const Entry *find(const std::string &section, const std::string &key) const;
+    // Sets one entry from text (kept as given, checked and converted as in a file). Throws
+    // ParameterFileError (without a source) for an unknown entry or a value it refuses.
+    void set(const std::string &section, const std::string &key, const std::string &value);
+
+    std::string print(Style style, Order order = Order::declaration) const;
+
+  private:
+    struct Section;
+    Entry &declare(const std::string &key, const patterns::Pattern &pattern,
+                   const std::string &help, const std::string &default_value,
+                   std::function<void(const std::string &)> assign);
+    Entry *find_entry(const std::string &section, const std::string &key) const;
+    void   assign(Entry &entry, const std::string &value, const std::string &source,
+                  unsigned int line);
+
+    std::unique_ptr<Section> root;
+    std::vector<Section *>   path; // declaration: the open subsections
+  };
+} // namespace hertzgear
