@@ -25,18 +25,6 @@ namespace hertzgear
 {
   using namespace dynamics;
 
-  nlohmann::json integrator_json(const IntegratorStats &s)
-  {
-    return {{"name", s.name},
-            {"steps", s.steps},
-            {"rejected_steps", s.rejected_steps},
-            {"rhs_evals", s.rhs_evals},
-            {"jacobian_evals", s.jacobian_evals},
-            {"root_evals", s.root_evals},
-            {"events", s.events},
-            {"wall_time_s", s.wall_time_s}};
-  }
-
   nlohmann::json summary_json(const DynamicsSetup &setup, const GearPairModel &model,
                               const SimulationResult &result, const SteadyStateSummary &s)
   {
@@ -64,7 +52,7 @@ namespace hertzgear
     j["steady_periods"]             = result.steady_periods;
     j["mesh_period_s"]              = result.mesh_period_s;
     j["model"]                      = setup.describe();
-    j["integrator"]                 = integrator_json(result.stats);
+    j["integrator"]                 = nlohmann::json(result.stats);
     j["wall_time_s"]                = result.stats.wall_time_s;
     return j;
   }
@@ -308,7 +296,7 @@ namespace hertzgear
         dir->write_text("bifurcation.csv",
                         bifurcation_csv_text(result.rows, settings.mode != SweepMode::continuation));
       }
-    return {sweep_csv, integrator_json(result.stats)};
+    return {sweep_csv, nlohmann::json(result.stats)};
   }
 
   namespace

@@ -9,7 +9,6 @@
 
 namespace hertzgear
 {
-  nlohmann::json integrator_json(const dynamics::IntegratorStats &stats);
   nlohmann::json summary_json(const DynamicsSetup &setup, const dynamics::GearPairModel &model,
                               const dynamics::SimulationResult &result,
                               const dynamics::SteadyStateSummary &summary);

@@ -79,7 +79,7 @@ namespace hertzgear
         RunDirectory      dir(ctx.out_dir, scene, ctx.command_line);
         dir.write_text("accuracy_dynamics.csv", csv.str());
         dir.finish(timer, {{"stage", "accuracy dynamics"},
-                           {"reference", integrator_json(study.reference_stats)},
+                           {"reference", nlohmann::json(study.reference_stats)},
                            {"reference_rms_dte_um", 1e6 * study.reference_summary.rms_dte_m}});
         draw_figure("plot_accuracy_dynamics.py", {(dir.path() / "accuracy_dynamics.csv").string(),
                                                   (dir.path() / "accuracy_dynamics.png").string()});

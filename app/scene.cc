@@ -175,19 +175,8 @@ namespace hertzgear
       s.leave();
     }
 
-    void declare_scene(SceneSchema &s, Scene &sc)
+    void declare_operating(SceneSchema &s, OperatingScene &o)
     {
-      s.enter("Gear pair", "The spur gear pair: pinion (driving) and gear (driven).");
-      declare_gear(s, sc.pinion, "Pinion", 23, 15.0);
-      declare_gear(s, sc.gear, "Gear", 34, 20.0);
-      s.leave();
-
-      s.enter("Material", "Materials of both bodies.");
-      declare_material(s, sc.pinion_material, "Pinion");
-      declare_material(s, sc.gear_material, "Gear");
-      s.leave();
-
-      auto &o              = sc.operating;
       o.torque_Nm          = 210.0;
       o.speed_rpm          = 150.0;
       o.center_distance_mm = 0.0;
@@ -206,8 +195,10 @@ namespace hertzgear
             "Total backlash along the line of action 2 b_c [mm] (the dynamics' half backlash b_c is "
             "half of it), made by thinning both gears equally. Used when center_distance_mm = 0.");
       s.leave();
+    }
 
-      auto &e                    = sc.effects;
+    void declare_effects(SceneSchema &s, EffectsScene &e)
+    {
       e.backlash                 = "on";
       e.hertzian_layer           = "dynamic";
       e.contact_damping          = "hunt-crossley";
@@ -240,8 +231,10 @@ namespace hertzgear
             "Unloaded static transmission error as a displacement excitation: off, or table "
             "(from the stiffness table's STE series).");
       s.leave();
+    }
 
-      auto &st                       = sc.stiffness;
+    void declare_stiffness(SceneSchema &s, StiffnessScene &st)
+    {
       st.source                      = "fem";
       st.positions_per_cycle         = 16;
       st.harmonics                   = 4;
@@ -349,8 +342,10 @@ namespace hertzgear
         s.leave();
       }
       s.leave();
+    }
 
-      auto &m             = sc.mesh;
+    void declare_mesh(SceneSchema &s, MeshScene &m)
+    {
       m.teeth_per_sector  = 5;
       m.face_width_layers = 8;
       s.enter("Mesh", "gmsh meshes of the gear bodies.");
@@ -360,8 +355,10 @@ namespace hertzgear
       s.add("face_width_layers", m.face_width_layers, Patterns::Integer(1, 512),
             "Element layers across the face width of 3D meshes at level 0 (count).");
       s.leave();
+    }
 
-      auto &d                         = sc.dynamics;
+    void declare_dynamics(SceneSchema &s, DynamicsScene &d)
+    {
       d.integrator                    = "cvode-bdf";
       d.radau_stages                  = 0;
       d.relative_tolerance            = 1.0e-8;
@@ -431,8 +428,10 @@ namespace hertzgear
             "Polar moment of inertia of the gear [kg m^2]; 0 = solid disc between bore and root "
             "radius over the face width.");
       s.leave();
+    }
 
-      auto &w                       = sc.sweep;
+    void declare_sweep(SceneSchema &s, SweepScene &w)
+    {
       w.enabled                     = false;
       w.speed_min_rpm               = 100.0;
       w.speed_max_rpm               = 10000.0;
@@ -460,8 +459,10 @@ namespace hertzgear
             Patterns::Integer(0, 10000000),
             "Leading mesh periods discarded per sweep point (count); < periods_per_point.");
       s.leave();
+    }
 
-      auto &out              = sc.output;
+    void declare_output(SceneSchema &s, OutputScene &out)
+    {
       out.timeseries_periods = 50;
       out.write_fields       = true;
       out.report             = true;
@@ -473,6 +474,27 @@ namespace hertzgear
       s.add("report", out.report, Patterns::Bool(),
             "Write the HTML report with figures at the end of `hertzgear run`.");
       s.leave();
+    }
+
+    void declare_scene(SceneSchema &s, Scene &sc)
+    {
+      s.enter("Gear pair", "The spur gear pair: pinion (driving) and gear (driven).");
+      declare_gear(s, sc.pinion, "Pinion", 23, 15.0);
+      declare_gear(s, sc.gear, "Gear", 34, 20.0);
+      s.leave();
+
+      s.enter("Material", "Materials of both bodies.");
+      declare_material(s, sc.pinion_material, "Pinion");
+      declare_material(s, sc.gear_material, "Gear");
+      s.leave();
+
+      declare_operating(s, sc.operating);
+      declare_effects(s, sc.effects);
+      declare_stiffness(s, sc.stiffness);
+      declare_mesh(s, sc.mesh);
+      declare_dynamics(s, sc.dynamics);
+      declare_sweep(s, sc.sweep);
+      declare_output(s, sc.output);
     }
 
 
@@ -593,41 +615,6 @@ namespace hertzgear
                        " must be less than Sweep/periods_per_point = ", w.periods_per_point);
     }
 
-    // A JSON scene is the same tree as a .prm file: objects are subsections, scalars (or
-    // {"value": ...} objects) are entries, arrays are comma lists. It is converted to .prm text
-    // so that both formats share one parser and one set of checks.
-    void json_to_prm(const nlohmann::json &node, const std::string &json_path, int depth,
-                     std::ostream &out)
-    {
-      const auto scalar_text = [](const nlohmann::json &v) -> std::string {
-        if (v.is_string())
-          return v.get<std::string>();
-        if (v.is_array())
-          {
-            std::string joined;
-            for (const auto &item : v)
-              joined += (joined.empty() ? "" : ", ") +
-                        (item.is_string() ? item.get<std::string>() : item.dump());
-            return joined;
-          }
-        return v.dump();
-      };
-      const std::string indent(2 * depth, ' ');
-      for (const auto &[key, value] : node.items())
-        {
-          const bool is_entry =
-            !value.is_object() || (value.contains("value") && !value["value"].is_object());
-          if (is_entry)
-            out << indent << "set " << key << " = "
-                << scalar_text(value.is_object() ? value["value"] : value) << "\n";
-          else
-            {
-              out << indent << "subsection " << key << "\n";
-              json_to_prm(value, json_path + "/" + key, depth + 1, out);
-              out << indent << "end\n";
-            }
-        }
-    }
   } // namespace
 
   Scene load_scene(const fs::path &file, const std::vector<std::string> &overrides)
@@ -665,10 +652,7 @@ namespace hertzgear
                   }
                 HG_REQUIRE_INPUT(tree.is_object(), "scene file ", file.string(),
                                  ": a JSON scene must be an object of sections");
-                std::ostringstream prm_text;
-                json_to_prm(tree, "", 0, prm_text);
-                std::istringstream in(prm_text.str());
-                schema.prm.parse(in, file.string() + " (as .prm)");
+                schema.prm.parse_json(tree, file.string() + " (as .prm)");
               }
             else
               schema.prm.parse_file(file);
@@ -749,41 +733,14 @@ namespace hertzgear
 
   std::string scene_values_for(const Scene &scene, const std::vector<std::string> &prefixes)
   {
-    // Re-read the used parameters: "subsection A" / "set key = value" / "end" lines.
-    std::istringstream       in(scene.used_parameters_prm);
-    std::vector<std::string> path, lines;
-    for (std::string line; std::getline(in, line);)
-      {
-        const auto b = line.find_first_not_of(" \t");
-        if (b == std::string::npos || line[b] == '#')
-          continue;
-        line = line.substr(b);
-        if (line.rfind("subsection ", 0) == 0)
-          path.push_back(line.substr(11));
-        else if (line == "end")
-          path.pop_back();
-        else if (line.rfind("set ", 0) == 0)
+    std::vector<std::string> lines;
+    for (const auto &[path, value] : parameter_values(scene.used_parameters_prm))
+      for (const auto &prefix : prefixes)
+        if (path.rfind(prefix, 0) == 0)
           {
-            std::string section;
-            for (const auto &p : path)
-              section += (section.empty() ? "" : "/") + p;
-            const auto eq  = line.find('=');
-            auto       key = line.substr(4, eq - 4);
-            key.erase(key.find_last_not_of(' ') + 1);
-            auto value = line.substr(eq + 1);
-            const auto vb = value.find_first_not_of(' ');
-            value = vb == std::string::npos ? "" : value.substr(vb);
-            const auto hash = value.find(" #");
-            if (hash != std::string::npos)
-              value = value.substr(0, hash);
-            for (const auto &prefix : prefixes)
-              if (section.rfind(prefix, 0) == 0)
-                {
-                  lines.push_back(section + "/" + key + " = " + value);
-                  break;
-                }
+            lines.push_back(path + " = " + value);
+            break;
           }
-      }
     std::sort(lines.begin(), lines.end());
     std::string out;
     for (const auto &l : lines)

@@ -1,6 +1,8 @@
 // Parameter file: patterns, declaration, reading and printing (see parameter_file.h).
 #include "common/parameter_file.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -590,6 +592,85 @@ namespace hertzgear
     parse(in, file.string());
     if (in.bad())
       throw ParameterFileError(file.string(), 0, "read error");
+  }
+
+  namespace
+  {
+    // The .prm text of a JSON tree (ParameterFile::parse_json).
+    void json_to_prm(const nlohmann::json &node, const int depth, std::ostream &out)
+    {
+      const auto scalar_text = [](const nlohmann::json &v) -> std::string {
+        if (v.is_string())
+          return v.get<std::string>();
+        if (v.is_array())
+          {
+            std::string joined;
+            for (const auto &item : v)
+              joined += (joined.empty() ? "" : ", ") +
+                        (item.is_string() ? item.get<std::string>() : item.dump());
+            return joined;
+          }
+        return v.dump();
+      };
+      const std::string indent(2 * depth, ' ');
+      for (const auto &[key, value] : node.items())
+        {
+          const bool is_entry =
+            !value.is_object() || (value.contains("value") && !value["value"].is_object());
+          if (is_entry)
+            out << indent << "set " << key << " = "
+                << scalar_text(value.is_object() ? value["value"] : value) << "\n";
+          else
+            {
+              out << indent << "subsection " << key << "\n";
+              json_to_prm(value, depth + 1, out);
+              out << indent << "end\n";
+            }
+        }
+    }
+  } // namespace
+
+  void ParameterFile::parse_json(const nlohmann::json &tree, const std::string &source)
+  {
+    std::ostringstream text;
+    json_to_prm(tree, 0, text);
+    std::istringstream in(text.str());
+    parse(in, source);
+  }
+
+  std::vector<std::pair<std::string, std::string>> parameter_values(const std::string &prm_text)
+  {
+    std::istringstream                               in(prm_text);
+    std::vector<std::string>                         path;
+    std::vector<std::pair<std::string, std::string>> values;
+    for (std::string line; std::getline(in, line);)
+      {
+        const auto b = line.find_first_not_of(" \t");
+        if (b == std::string::npos || line[b] == '#')
+          continue;
+        line = line.substr(b);
+        if (line.rfind("subsection ", 0) == 0)
+          path.push_back(line.substr(11));
+        else if (line == "end" && !path.empty())
+          path.pop_back();
+        else if (line.rfind("set ", 0) == 0)
+          {
+            std::string section;
+            for (const auto &p : path)
+              section += p + "/";
+            const auto eq  = line.find('=');
+            auto       key = line.substr(4, eq - 4);
+            key.erase(key.find_last_not_of(' ') + 1);
+            auto       value = line.substr(eq + 1);
+            const auto vb    = value.find_first_not_of(' ');
+            value            = vb == std::string::npos ? "" : value.substr(vb);
+            const auto hash  = value.find(" #");
+            if (hash != std::string::npos)
+              value = value.substr(0, hash);
+            values.emplace_back(section + key, value);
+          }
+      }
+    return values;
   }
 
   const ParameterFile::Entry *ParameterFile::find(const std::string &section,

@@ -20,11 +20,14 @@
 // the comment, and a line ending in a backslash (there are no continuation lines).
 #include "common/errors.h"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hertzgear
@@ -199,6 +202,10 @@ namespace hertzgear
     void parse(std::istream &in, const std::string &source);
     // Reads a file; messages name it as given.
     void parse_file(const std::filesystem::path &file);
+    // Reads a JSON tree as the same tree of a .prm file: objects are subsections, scalars (or
+    // {"value": ...} objects) are entries, arrays are comma lists; it is read as .prm text, so
+    // both formats share one parser and one set of checks.
+    void parse_json(const nlohmann::json &tree, const std::string &source);
 
     // The entry `key` of subsection `section` ("Gear pair/Pinion", "" for the top level), or null.
     const Entry *find(const std::string &section, const std::string &key) const;
@@ -220,4 +227,8 @@ namespace hertzgear
     std::unique_ptr<Section> root;
     std::vector<Section *>   path; // declaration: the open subsections
   };
+
+  // ("Section/Sub/key", value) of every `set` line of .prm text, in order (the used parameters of a
+  // run read back).
+  std::vector<std::pair<std::string, std::string>> parameter_values(const std::string &prm_text);
 } // namespace hertzgear

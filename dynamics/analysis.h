@@ -6,6 +6,8 @@
 #include "dynamics/gear_pair_model.h"
 #include "dynamics/integrator.h"
 
+#include <nlohmann/json.hpp>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -86,6 +88,13 @@ namespace hertzgear::dynamics
     double mean_energy_per_impact_J = 0.0;
     int    n_impacts             = 0;
   };
+  // JSON with the member names as keys (nlohmann's to_json / from_json).
+  NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SteadyStateSummary, rms_dte_m, rms_dte_fluctuation_m, mean_dte_m,
+                                     min_dte_m, max_dte_m, mean_force_N, max_force_N, min_force_N,
+                                     static_force_N, dynamic_factor, max_penetration_m,
+                                     contact_loss_fraction, contact_losses_per_period,
+                                     backside_impacts, period_multiplicity,
+                                     mean_energy_per_impact_J, n_impacts)
 
   // Smallest k in 1..max_k with |x_{j+k} - x_j| <= relative_tolerance * x_scale and
   // |x'_{j+k} - x'_j| <= relative_tolerance * v_scale over the last 2k + 8 points of the section

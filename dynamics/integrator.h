@@ -5,6 +5,8 @@
 // adaptive ones locate every root of the system's root functions and restart cleanly there.
 #include "dynamics/ode_system.h"
 
+#include <nlohmann/json.hpp>
+
 #include <functional>
 #include <memory>
 #include <string>
@@ -56,6 +58,10 @@ namespace hertzgear::dynamics
 
     IntegratorStats &operator+=(const IntegratorStats &other);
   };
+
+  // JSON with the member names as keys (nlohmann's to_json / from_json).
+  NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IntegratorStats, name, steps, rejected_steps, rhs_evals,
+                                     jacobian_evals, root_evals, events, wall_time_s)
 
   // Called at every output time with the state there.
   using Observer = std::function<void(double t, const double *y)>;

@@ -130,87 +130,17 @@ namespace hertzgear::dynamics
 
     // ---- Rows and statistics between ranks (as JSON text) ----
 
-    nlohmann::json summary_to_json(const SteadyStateSummary &s)
-    {
-      return {{"rms_dte_m", s.rms_dte_m},
-              {"rms_dte_fluctuation_m", s.rms_dte_fluctuation_m},
-              {"mean_dte_m", s.mean_dte_m},
-              {"min_dte_m", s.min_dte_m},
-              {"max_dte_m", s.max_dte_m},
-              {"mean_force_N", s.mean_force_N},
-              {"max_force_N", s.max_force_N},
-              {"min_force_N", s.min_force_N},
-              {"static_force_N", s.static_force_N},
-              {"dynamic_factor", s.dynamic_factor},
-              {"max_penetration_m", s.max_penetration_m},
-              {"contact_loss_fraction", s.contact_loss_fraction},
-              {"contact_losses_per_period", s.contact_losses_per_period},
-              {"backside_impacts", s.backside_impacts},
-              {"period_multiplicity", s.period_multiplicity},
-              {"mean_energy_per_impact_J", s.mean_energy_per_impact_J},
-              {"n_impacts", s.n_impacts}};
-    }
-
-    SteadyStateSummary summary_from_json(const nlohmann::json &j)
-    {
-      SteadyStateSummary s;
-      s.rms_dte_m                 = j["rms_dte_m"];
-      s.rms_dte_fluctuation_m     = j["rms_dte_fluctuation_m"];
-      s.mean_dte_m                = j["mean_dte_m"];
-      s.min_dte_m                 = j["min_dte_m"];
-      s.max_dte_m                 = j["max_dte_m"];
-      s.mean_force_N              = j["mean_force_N"];
-      s.max_force_N               = j["max_force_N"];
-      s.min_force_N               = j["min_force_N"];
-      s.static_force_N            = j["static_force_N"];
-      s.dynamic_factor            = j["dynamic_factor"];
-      s.max_penetration_m         = j["max_penetration_m"];
-      s.contact_loss_fraction     = j["contact_loss_fraction"];
-      s.contact_losses_per_period = j["contact_losses_per_period"];
-      s.backside_impacts          = j["backside_impacts"];
-      s.period_multiplicity       = j["period_multiplicity"];
-      s.mean_energy_per_impact_J  = j["mean_energy_per_impact_J"];
-      s.n_impacts                 = j["n_impacts"];
-      return s;
-    }
-
-    nlohmann::json stats_to_json(const IntegratorStats &s)
-    {
-      return {{"name", s.name},
-              {"steps", s.steps},
-              {"rejected_steps", s.rejected_steps},
-              {"rhs_evals", s.rhs_evals},
-              {"jacobian_evals", s.jacobian_evals},
-              {"root_evals", s.root_evals},
-              {"events", s.events},
-              {"wall_time_s", s.wall_time_s}};
-    }
-
-    IntegratorStats stats_from_json(const nlohmann::json &j)
-    {
-      IntegratorStats s;
-      s.name           = j["name"];
-      s.steps          = j["steps"];
-      s.rejected_steps = j["rejected_steps"];
-      s.rhs_evals      = j["rhs_evals"];
-      s.jacobian_evals = j["jacobian_evals"];
-      s.root_evals     = j["root_evals"];
-      s.events         = j["events"];
-      s.wall_time_s    = j["wall_time_s"];
-      return s;
-    }
-
     // This rank's rows by job, its statistics and its failure, as one text.
     std::string rank_part(const std::vector<std::vector<SweepRow>> &rows,
                           const IntegratorStats &stats, const std::exception_ptr &failure)
     {
-      nlohmann::json mine = {{"rows", nlohmann::json::array()}, {"stats", stats_to_json(stats)}};
+      nlohmann::json mine = {{"rows", nlohmann::json::array()}, {"stats", stats}};
       for (std::size_t j = 0; j < rows.size(); ++j)
         for (const auto &r : rows[j])
           mine["rows"].push_back({{"job", j},
                                   {"speed_rpm", r.speed_rpm},
                                   {"branch", static_cast<int>(r.branch)},
-                                  {"summary", summary_to_json(r.summary)},
+                                  {"summary", r.summary},
                                   {"poincare", r.poincare_dte_m}});
       if (failure)
         try
@@ -250,8 +180,8 @@ namespace hertzgear::dynamics
           for (const auto &row : part["rows"])
             rows[row["job"].get<std::size_t>()].push_back(
               {row["speed_rpm"].get<double>(), static_cast<SweepBranch>(row["branch"].get<int>()),
-               summary_from_json(row["summary"]), row["poincare"].get<std::vector<double>>()});
-          const IntegratorStats s = stats_from_json(part["stats"]);
+               row["summary"].get<SteadyStateSummary>(), row["poincare"].get<std::vector<double>>()});
+          const IntegratorStats s = part["stats"].get<IntegratorStats>();
           stats += s;
           if (stats.name.empty())
             stats.name = s.name;
