@@ -10,6 +10,7 @@
 #include <istream>
 #include <map>
 #include <sstream>
+#include <type_traits>
 
 namespace hertzgear
 {
@@ -141,55 +142,40 @@ namespace hertzgear
 
   namespace patterns
   {
-    Integer::Integer(const int lower_, const int upper_)
-      : lower(lower_), upper(upper_)
+    template <typename T>
+    Range<T>::Range(const T lower_, const T upper_) : lower(lower_), upper(upper_)
     {
-      if (lower > upper)
-        throw std::logic_error("patterns::Integer: lower bound above upper bound");
+      if (!(lower <= upper) || !std::isfinite(double(lower)) || !std::isfinite(double(upper)))
+        throw std::logic_error("patterns::Integer/Double: bounds must be finite and ordered");
     }
 
-    bool Integer::match(const std::string &text) const
+    template <typename T>
+    bool Range<T>::match(const std::string &text) const
     {
       std::istringstream in(text);
-      int                i = 0;
-      if (!(in >> i) || !only_white_space_left(in))
+      T                  v = 0;
+      if (!(in >> v) || !only_white_space_left(in) || !std::isfinite(double(v)))
         return false;
-      return lower <= i && i <= upper;
+      return lower <= v && v <= upper;
     }
 
-    std::string Integer::description() const
+    template <typename T>
+    std::string Range<T>::description() const
     {
       std::ostringstream os;
-      os << "[Integer range " << lower << "..." << upper << " (inclusive)]";
+      os << (std::is_integral_v<T> ? "[Integer range " : "[Double ") << lower << "..." << upper
+         << " (inclusive)]";
       return os.str();
     }
 
-    std::unique_ptr<Pattern> Integer::clone() const { return std::make_unique<Integer>(*this); }
-
-    Double::Double(const double lower_, const double upper_)
-      : lower(lower_), upper(upper_)
+    template <typename T>
+    std::unique_ptr<Pattern> Range<T>::clone() const
     {
-      if (!(lower <= upper) || !std::isfinite(lower) || !std::isfinite(upper))
-        throw std::logic_error("patterns::Double: bounds must be finite and ordered");
+      return std::make_unique<Range<T>>(*this);
     }
 
-    bool Double::match(const std::string &text) const
-    {
-      std::istringstream in(text);
-      double             d = 0;
-      if (!(in >> d) || !only_white_space_left(in) || !std::isfinite(d))
-        return false;
-      return lower <= d && d <= upper;
-    }
-
-    std::string Double::description() const
-    {
-      std::ostringstream os;
-      os << "[Double " << lower << "..." << upper << " (inclusive)]";
-      return os.str();
-    }
-
-    std::unique_ptr<Pattern> Double::clone() const { return std::make_unique<Double>(*this); }
+    template class Range<int>;
+    template class Range<double>;
 
     bool Bool::match(const std::string &text) const { return text == "true" || text == "false"; }
     std::string Bool::description() const { return "[Bool]"; }

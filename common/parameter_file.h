@@ -45,31 +45,22 @@ namespace hertzgear
       virtual std::unique_ptr<Pattern> clone() const                       = 0;
     };
 
-    // An integer in [lower, upper]; white space around it is allowed, nothing else ("7.0" is not).
-    class Integer final : public Pattern
+    // A number in [lower, upper], white space around it allowed: an integer for Integer ("7.0" is
+    // not one), a finite double read as C++ streams read it for Double ("1e6", ".5", "+3").
+    template <typename T>
+    class Range final : public Pattern
     {
     public:
-      Integer(int lower, int upper);
+      Range(T lower, T upper);
       bool                     match(const std::string &text) const override;
       std::string              description() const override;
       std::unique_ptr<Pattern> clone() const override;
 
     private:
-      int lower, upper;
+      T lower, upper;
     };
-
-    // A finite number in [lower, upper], read as C++ streams read a double ("1e6", ".5", "+3").
-    class Double final : public Pattern
-    {
-    public:
-      Double(double lower, double upper);
-      bool                     match(const std::string &text) const override;
-      std::string              description() const override;
-      std::unique_ptr<Pattern> clone() const override;
-
-    private:
-      double lower, upper;
-    };
+    using Integer = Range<int>;
+    using Double  = Range<double>;
 
     // Exactly "true" or "false".
     class Bool final : public Pattern

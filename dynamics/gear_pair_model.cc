@@ -1,6 +1,7 @@
 #include "dynamics/gear_pair_model.h"
 
 #include "common/errors.h"
+#include "common/names.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,25 +59,20 @@ namespace hertzgear::dynamics
 
   HertzianLayer hertzian_layer_from_name(const std::string &name)
   {
-    if (name == "dynamic")
-      return HertzianLayer::dynamic;
-    if (name == "quasi-static")
-      return HertzianLayer::quasi_static;
-    if (name == "off")
-      return HertzianLayer::off;
-    throw InputError(msg("unknown hertzian_layer '", name, "' (dynamic | quasi-static | off)"));
+    return from_name<HertzianLayer>(name,
+                                    {{"dynamic", HertzianLayer::dynamic},
+                                     {"quasi-static", HertzianLayer::quasi_static},
+                                     {"off", HertzianLayer::off}},
+                                    "hertzian_layer");
   }
 
   ContactDamping contact_damping_from_name(const std::string &name)
   {
-    if (name == "hunt-crossley")
-      return ContactDamping::hunt_crossley;
-    if (name == "lankarani-nikravesh")
-      return ContactDamping::lankarani_nikravesh;
-    if (name == "viscous-only")
-      return ContactDamping::viscous_only;
-    throw InputError(msg("unknown contact_damping '", name,
-                         "' (hunt-crossley | lankarani-nikravesh | viscous-only)"));
+    return from_name<ContactDamping>(name,
+                                     {{"hunt-crossley", ContactDamping::hunt_crossley},
+                                      {"lankarani-nikravesh", ContactDamping::lankarani_nikravesh},
+                                      {"viscous-only", ContactDamping::viscous_only}},
+                                     "contact_damping");
   }
 
   double equivalent_mass(const double I1, const double I2, const double rb1, const double rb2)

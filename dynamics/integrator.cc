@@ -1,6 +1,7 @@
 #include "dynamics/integrator.h"
 
 #include "common/errors.h"
+#include "common/names.h"
 
 #include <chrono>
 #include <cmath>
@@ -17,20 +18,14 @@ namespace hertzgear::dynamics
 
   IntegratorKind integrator_kind_from_name(const std::string &name)
   {
-    if (name == "rk4")
-      return IntegratorKind::rk4;
-    if (name == "arkode-erk")
-      return IntegratorKind::arkode_erk;
-    if (name == "cvode-bdf")
-      return IntegratorKind::cvode_bdf;
-    if (name == "arkode-dirk")
-      return IntegratorKind::arkode_dirk;
-    if (name == "ida")
-      return IntegratorKind::ida;
-    if (name == "radau-iia")
-      return IntegratorKind::radau_iia;
-    throw InputError(msg("unknown integrator '", name,
-                         "' (rk4 | arkode-erk | arkode-dirk | cvode-bdf | ida | radau-iia)"));
+    return from_name<IntegratorKind>(name,
+                                     {{"rk4", IntegratorKind::rk4},
+                                      {"arkode-erk", IntegratorKind::arkode_erk},
+                                      {"arkode-dirk", IntegratorKind::arkode_dirk},
+                                      {"cvode-bdf", IntegratorKind::cvode_bdf},
+                                      {"ida", IntegratorKind::ida},
+                                      {"radau-iia", IntegratorKind::radau_iia}},
+                                     "integrator");
   }
 
   std::string integrator_name(const IntegratorKind kind)

@@ -1,6 +1,7 @@
 #include "dynamics/sweep.h"
 
 #include "common/errors.h"
+#include "common/names.h"
 #include "common/processes.h"
 
 #include <nlohmann/json.hpp>
@@ -16,24 +17,20 @@ namespace hertzgear::dynamics
 {
   SweepDirection sweep_direction_from_name(const std::string &name)
   {
-    if (name == "up")
-      return SweepDirection::up;
-    if (name == "down")
-      return SweepDirection::down;
-    if (name == "both")
-      return SweepDirection::both;
-    throw ParameterError("direction", name + " is not one of up, down, both");
+    return from_name<SweepDirection>(name,
+                                     {{"up", SweepDirection::up},
+                                      {"down", SweepDirection::down},
+                                      {"both", SweepDirection::both}},
+                                     "direction");
   }
 
   SweepMode sweep_mode_from_name(const std::string &name)
   {
-    if (name == "continuation")
-      return SweepMode::continuation;
-    if (name == "independent")
-      return SweepMode::independent;
-    if (name == "both")
-      return SweepMode::both;
-    throw ParameterError("mode", name + " is not one of continuation, independent, both");
+    return from_name<SweepMode>(name,
+                                {{"continuation", SweepMode::continuation},
+                                 {"independent", SweepMode::independent},
+                                 {"both", SweepMode::both}},
+                                "mode");
   }
 
   std::string sweep_branch_name(const SweepBranch branch)

@@ -6,14 +6,12 @@ namespace hertzgear::stiffness
 {
   namespace
   {
-    class FourierSource : public StiffnessSource
+    class FourierSource : public DirectSource
     {
     public:
       FourierSource()
-        : StiffnessSource("fourier", "Fourier coefficients given in the scene, no meshing or FE")
+        : DirectSource("fourier", "Fourier coefficients given in the scene, no meshing or FE")
       {}
-      bool is_stage() const override { return false; }
-      void check(const StiffnessInput &) const override {}
 
       StiffnessResult compute(const StiffnessInput &input, PhaseTimer &) const override
       {

@@ -130,6 +130,16 @@ namespace hertzgear::stiffness
     std::string source_name, source_summary;
   };
 
+  // A source the dynamics reads directly (a table file, the scene's own coefficients): no
+  // stiffness stage, nothing to check before it is read.
+  class DirectSource : public StiffnessSource
+  {
+  public:
+    using StiffnessSource::StiffnessSource;
+    bool is_stage() const override { return false; }
+    void check(const StiffnessInput &) const override {}
+  };
+
   // The one instance of a source class, for its registration function (registry.cc):
   //   const StiffnessSource &iso6336_source() { return the_source<Iso6336Source>(); }
   template <class Source>

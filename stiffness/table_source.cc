@@ -9,14 +9,12 @@ namespace hertzgear::stiffness
 {
   namespace
   {
-    class TableSource : public StiffnessSource
+    class TableSource : public DirectSource
     {
     public:
       TableSource()
-        : StiffnessSource("table", "a stiffness table file, no meshing or FE")
+        : DirectSource("table", "a stiffness table file, no meshing or FE")
       {}
-      bool        is_stage() const override { return false; }
-      void        check(const StiffnessInput &) const override {}
 
       StiffnessResult compute(const StiffnessInput &input, PhaseTimer &) const override
       {

@@ -697,12 +697,21 @@ def sweep_direction(axes, sw, columns, m, d, i):
                      alpha=0.7, label="contact-loss fraction, %s" % d)
 
 
+def speed_and(sec, table, name, what, *patterns):
+    """The speed column and the column of `patterns` of `table`, or None after a note that the
+    file `name` lacks them."""
+    speed, column = table.find("speed_rpm", "speed"), table.find(*patterns)
+    if not (speed and column):
+        sec.note("%s lacks speed or %s columns." % (name, what))
+        return None
+    return speed, column
+
+
 def sweep_rms(sec, scene, sw):
-    speed = sw.find("speed_rpm", "speed")
-    rms = sw.find("rms_dte", "rms")
-    if not (speed and rms):
-        sec.note("sweep.csv lacks speed or RMS columns.")
+    columns = speed_and(sec, sw, "sweep.csv", "RMS", "rms_dte", "rms")
+    if not columns:
         return
+    speed, rms = columns
     direction = sw.find("direction")
     dirs = sw[direction] if direction else np.array(["sweep"] * len(sw), dtype=object)
     columns = (speed, rms, sw.find("min_dte"), sw.find("max_dte"), sw.find("dynamic_factor"),
@@ -724,11 +733,10 @@ def sweep_rms(sec, scene, sw):
 
 
 def bifurcation(sec, scene, bif):
-    speed = bif.find("speed_rpm", "speed")
-    x = bif.find("poincare_dte", "dte")
-    if not (speed and x):
-        sec.note("bifurcation.csv lacks speed or Poincaré DTE columns.")
+    columns = speed_and(sec, bif, "bifurcation.csv", "Poincaré DTE", "poincare_dte", "dte")
+    if not columns:
         return
+    speed, x = columns
     fig, ax = plt.subplots(figsize=(10, 4.2))
     ref = reference_of(bif[x])
     ax.plot(bif[speed], bif[x] - ref, ".", ms=2.5, color="#222222", alpha=0.7)

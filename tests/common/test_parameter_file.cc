@@ -236,27 +236,26 @@ TEST(ParameterFile, ValuesAreConvertedAndAssigned)
   EXPECT_TRUE(v.enabled);
 }
 
-TEST(ParameterFileErrors, UnknownKeyNamesSourceLineAndKey)
+// Requirement: an unknown key or subsection is refused with the source, the line and the name
+// that is not declared, and the subsection it was looked for in.
+TEST(ParameterFileErrors, UnknownKeyOrSubsectionNamesSourceLineAndName)
 {
-  const std::string e = parse_error("subsection Sweep\n"
-                                    "  set enabled = true\n"
-                                    "  set enabledd = true\n"
-                                    "end\n",
-                                    "unknown_key.prm");
-  EXPECT_THAT(e, HasSubstr("unknown_key.prm, line 3"));
-  EXPECT_THAT(e, HasSubstr("\"enabledd\""));
-  EXPECT_THAT(e, HasSubstr("subsection \"Sweep\""));
-}
-
-TEST(ParameterFileErrors, UnknownSubsectionNamesSourceLineAndSubsection)
-{
-  const std::string e = parse_error("subsection Gear pair\n"
-                                    "  subsection Pinionn\n"
-                                    "  end\n"
-                                    "end\n");
-  EXPECT_THAT(e, HasSubstr("scene.prm, line 2"));
-  EXPECT_THAT(e, HasSubstr("\"Pinionn\""));
-  EXPECT_THAT(e, HasSubstr("\"Gear pair\""));
+  struct Case
+  {
+    const char              *text, *source;
+    std::vector<std::string> expected;
+  };
+  const Case cases[] = {
+    {"subsection Sweep\n  set enabled = true\n  set enabledd = true\nend\n", "unknown_key.prm",
+     {"unknown_key.prm, line 3", "\"enabledd\"", "subsection \"Sweep\""}},
+    {"subsection Gear pair\n  subsection Pinionn\n  end\nend\n", "scene.prm",
+     {"scene.prm, line 2", "\"Pinionn\"", "\"Gear pair\""}}};
+  for (const auto &c : cases)
+    {
+      const std::string e = parse_error(c.text, c.source);
+      for (const auto &expected : c.expected)
+        EXPECT_THAT(e, HasSubstr(expected)) << c.text;
+    }
 }
 
 TEST(ParameterFileErrors, RefusedValueNamesLineKeyValueAndPattern)
