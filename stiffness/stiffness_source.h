@@ -2,8 +2,9 @@
 // The stiffness seam: every way hertzgear obtains the mesh stiffness of a pair is a
 // StiffnessSource, computed from one plain input (StiffnessInput, filled by app/ from the scene)
 // into one result (StiffnessResult: the dynamics' table, a row per mesh position, notes). The
-// registry (stiffness/registry.h) lists the sources; the scene's Stiffness/source, the pipeline,
-// the `stiffness` command and docs/stiffness-sources.md all read it.
+// registry (stiffness/registry.h) lists the sources; the scene's source selection and its help
+// text (and so docs/scenes.md), the pipeline and the `stiffness` command all read it
+// (docs/architecture.md, "The stiffness seam").
 //
 // Units: the input in the units gear engineers use (mm, N m, MPa), the table in SI (N/m, N/m^n,
 // m), the rows with the unit in each name.
