@@ -1,6 +1,6 @@
 // `hertzgear check SCENE` and `hertzgear defaults`.
 #include "app/command.h"
-#include "app/meshing_setup.h"
+#include "app/pipeline.h"
 #include "app/run_directory.h"
 #include "app/scene.h"
 
@@ -19,10 +19,11 @@ namespace hertzgear
         scene = load_scene(ctx.scene_file, ctx.overrides);
       }
       {
-        // Impossible geometry (undercut, pointed tip, interference, eps_alpha < 1, jamming
-        // centre distance, ...) is bad input too.
-        PhaseTimer::Scope scope(timer, "geometry");
-        make_pair(scene);
+        // Exactly what `run` checks before it makes a folder: impossible geometry (undercut,
+        // pointed tip, interference, eps_alpha < 1, jamming centre distance, ...), the stiffness
+        // source's input and, for a table or Fourier source, the dynamics set-up.
+        PhaseTimer::Scope scope(timer, "checks");
+        check_run_inputs(scene);
       }
       std::cout << "# scene " << scene.file.string() << " is valid (hash " << scene.hash << ")\n"
                 << "# resolved parameters:\n"

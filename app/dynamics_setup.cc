@@ -46,6 +46,7 @@ namespace hertzgear
 
   DynamicsSetup make_dynamics_setup(const Scene &scene)
   {
+    make_pair(scene); // the dynamics uses the geometry (F_0 = T_1 / r_b1, inertias): check it
     DynamicsSetup s;
     const auto   &d  = scene.dynamics;
     const auto   &op = scene.operating;

@@ -2,6 +2,8 @@
 
 #include "app/cmd_dynamics.h"
 #include "app/command.h"
+#include "app/dynamics_setup.h"
+#include "app/meshing_setup.h"
 #include "app/run_directory.h"
 #include "app/scripts.h"
 #include "app/stiffness_setup.h"
@@ -345,10 +347,19 @@ namespace hertzgear
     };
   } // namespace
 
+  void check_run_inputs(const Scene &scene)
+  {
+    make_pair(scene);
+    check_stiffness_input(scene);
+    if (!stiffness_source(scene).is_stage())
+      make_dynamics_setup(scene);
+  }
+
   std::vector<StageOutcome> run_pipeline(const Scene &scene, const fs::path &out,
                                          const std::string &command_line,
                                          const PipelineOptions &options)
   {
+    check_run_inputs(scene);
     return PipelineRun(scene, out, command_line, options).run();
   }
 } // namespace hertzgear

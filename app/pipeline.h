@@ -46,6 +46,12 @@ namespace hertzgear
   // The scene values a stage reads ("stiffness", "dynamics", "sweep", "report").
   std::string stage_scene_values(const Scene &scene, const std::string &stage);
 
+  // The one validation path of a run, before any folder or file is made (`check` runs it too):
+  // the geometry of the pair (undercut, pointed tip, interference, contact ratio, ...), the input
+  // of the stiffness source, and for a source the dynamics reads directly (table, fourier) the
+  // whole dynamics set-up with its table. Throws InputError naming the key.
+  void check_run_inputs(const Scene &scene);
+
   // Runs the pipeline of `scene` into `out` and returns what ran; run.json records it too.
   std::vector<StageOutcome> run_pipeline(const Scene &scene, const std::filesystem::path &out,
                                          const std::string &command_line,

@@ -277,3 +277,29 @@ TEST(Run, AnFeSceneWritesItsFieldsWhenAsked)
   EXPECT_EQ(stages_that_ran(dir).at("stiffness"), true);
   EXPECT_FALSE(fs::exists(dir / "fields"));
 }
+
+// Requirement: `run` checks everything it can before it makes a folder, and `check` accepts
+// exactly what `run` accepts: a pointed tooth on a scene whose stiffness comes from Fourier
+// coefficients (the dynamics still uses the geometry), and a damping ratio of 0 that makes the
+// Hertzian layer a DAE for cvode-bdf, are refused by both with exit 2, naming the key, and `run`
+// leaves no folder behind.
+TEST(Run, BadInputIsRefusedBeforeAnyFolderAndCheckAgrees)
+{
+  const std::string scene = scene_path("paper_crowned_fourier.prm") +
+                            " --set Dynamics/periods=60 --set Dynamics/transient_periods=30"
+                            " --set Output/report=false";
+  const std::pair<std::string, std::string> cases[] = {
+    {"--set \"Gear pair/Pinion/tip_radius_mm=45\"", "pinion"},
+    {"--set Dynamics/damping_ratio=0", "Dynamics/integrator"}};
+  for (const auto &[bad, named] : cases)
+    {
+      const fs::path dir = fresh_temp_dir("run_refused");
+      fs::remove_all(dir);
+      const auto run = run_hertzgear("run " + scene + " " + bad + " --out " + quoted(dir));
+      EXPECT_EQ(run.exit_code, 2) << bad << "\n" << run.err;
+      EXPECT_THAT(run.err, HasSubstr(named)) << bad;
+      EXPECT_FALSE(fs::exists(dir)) << bad << ": run left a folder";
+      const auto check = run_hertzgear("check " + scene + " " + bad);
+      EXPECT_EQ(check.exit_code, 2) << bad << "\n" << check.err;
+    }
+}
