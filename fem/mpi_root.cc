@@ -8,16 +8,11 @@
 
 namespace hertzgear::fem
 {
-  bool is_root_rank(const MPI_Comm comm)
-  {
-    return dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-  }
-
   void on_root(const MPI_Comm comm, const std::function<void()> &work)
   {
     int         code = exit_success;
     std::string text;
-    if (is_root_rank(comm))
+    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
       {
         try
           {

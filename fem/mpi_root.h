@@ -10,7 +10,4 @@ namespace hertzgear::fem
 {
   // Runs `work` on rank 0 of `comm` only; collective.
   void on_root(MPI_Comm comm, const std::function<void()> &work);
-
-  // True on rank 0 of `comm` (the rank that writes files and progress).
-  bool is_root_rank(MPI_Comm comm = MPI_COMM_WORLD);
 } // namespace hertzgear::fem
