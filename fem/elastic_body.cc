@@ -10,6 +10,7 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
@@ -113,19 +114,48 @@ namespace hertzgear
     ElasticBody<dim>::~ElasticBody() = default;
 
     template <int dim>
-    void ElasticBody<dim>::run()
+    void ElasticBody<dim>::assemble()
     {
       {
         PhaseTimer::Scope t(timer, "set-up");
         setup_system();
       }
-      {
-        PhaseTimer::Scope t(timer, "assembly");
-        assemble_system();
-      }
+      PhaseTimer::Scope t(timer, "assembly");
+      assemble_system();
+    }
+
+    template <int dim>
+    void ElasticBody<dim>::run()
+    {
+      assemble();
       PhaseTimer::Scope t(timer, parameters.linear_solver == LinearSolver::direct ? "factorisation" :
                                                                                    "AMG hierarchy");
       setup_solver();
+    }
+
+    template <int dim>
+    std::vector<std::pair<types::global_dof_index, double>>
+    ElasticBody<dim>::reading_functional(const PointReading &reading) const
+    {
+      HG_REQUIRE_INPUT(Utilities::MPI::n_mpi_processes(mpi_communicator) == 1,
+                       "reading_functional needs a body on one process");
+      const auto found = GridTools::find_active_cell_around_point(mapping, dof_handler, reading.point);
+      HG_REQUIRE_INPUT(found.first.state() == IteratorState::valid, "the reading point (",
+                       reading.point, ") lies outside the body");
+      const Quadrature<dim> at_point(GeometryInfo<dim>::project_to_unit_cell(found.second));
+      FEValues<dim>         fe_values(mapping, fe, at_point, update_values);
+      fe_values.reinit(found.first);
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      found.first->get_dof_indices(dofs);
+      std::vector<std::pair<types::global_dof_index, double>> weights;
+      for (unsigned int i = 0; i < dofs.size(); ++i)
+        {
+          const unsigned int c = fe.system_to_component_index(i).first;
+          const double       w = fe_values.shape_value_component(i, 0, c) * reading.direction[c];
+          if (w != 0.0 && !constraints.is_constrained(dofs[i]))
+            weights.emplace_back(dofs[i], w);
+        }
+      return weights;
     }
 
     template <int dim>

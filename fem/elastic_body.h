@@ -18,6 +18,7 @@
 //
 // Inputs before outputs, SI or any consistent unit system (the class never converts units).
 #include "common/errors.h"
+#include "fem/body_compliance.h"
 #include "common/progress.h"
 
 #include <deal.II/base/function.h>
@@ -60,7 +61,7 @@ namespace hertzgear
     };
 
     template <int dim>
-    class ElasticBody
+    class ElasticBody : public BodyCompliance<dim>
     {
     public:
       using VectorType = dealii::PETScWrappers::MPI::Vector;
@@ -97,22 +98,8 @@ namespace hertzgear
       static LinearSolver       parse_linear_solver(const std::string &name);
       static std::string        linear_solver_name(const LinearSolver solver);
 
-      // A unit force along `direction` spread over the boundary within `radius` of `centre`
-      // with the smooth weight (1 - (r/radius)^2)^2, so that the load is a traction whose
-      // resultant is exactly `direction` (|direction| = 1 for a unit load).
-      struct PatchLoad
-      {
-        dealii::Point<dim>     centre;
-        dealii::Tensor<1, dim> direction;
-        double                 radius = 0.0;
-      };
-
-      // Displacement component along `direction` at `point` (anywhere in the body).
-      struct PointReading
-      {
-        dealii::Point<dim>     point;
-        dealii::Tensor<1, dim> direction;
-      };
+      using PatchLoad    = fem::PatchLoad<dim>;
+      using PointReading = fem::PointReading<dim>;
 
       // Traction t(x, n) on a boundary part, n the outward unit normal.
       using TractionFunction = std::function<dealii::Tensor<1, dim>(const dealii::Point<dim> &,
@@ -127,6 +114,9 @@ namespace hertzgear
 
       // setup_system, assemble_system, setup_solver: afterwards any number of load cases.
       void run();
+      // setup_system and assemble_system only, for a caller that factorises the matrix itself
+      // (CyclicGearBody condenses it onto the sector's cut faces).
+      void assemble();
 
       // Patch loads may be restricted to boundary faces with these ids (empty: any boundary face
       // except the clamped one), e.g. the flank of one tooth.
@@ -164,7 +154,19 @@ namespace hertzgear
       // C(r, l) = displacement of load case l read at reading r: n_readings x n_loads, replicated
       // on every rank. One substitution per load, one point search for all readings.
       dealii::FullMatrix<double> compliance(const std::vector<PatchLoad> &   loads,
-                                            const std::vector<PointReading> &readings) const;
+                                            const std::vector<PointReading> &readings) const override;
+      double youngs_modulus() const override { return parameters.youngs_modulus; }
+      double poisson_ratio() const override { return parameters.poisson_ratio; }
+
+      // The reading as a linear functional of the DoF values: (DoF, weight) pairs of the cell
+      // that holds the point (serial bodies; constrained DoFs left out).
+      std::vector<std::pair<dealii::types::global_dof_index, double>>
+      reading_functional(const PointReading &reading) const;
+      // The constraints applied to a solution of the assembled system, as a ghosted copy.
+      VectorType ghosted_solution(VectorType &solution) const { return finish_solution(solution); }
+      const MatrixType &                       get_system_matrix() const { return system_matrix; }
+      const dealii::AffineConstraints<double> &get_constraints() const { return constraints; }
+      const dealii::IndexSet &                 get_locally_owned_dofs() const { return locally_owned_dofs; }
 
       // C(i, j) = work of patch traction i on the displacement of patch load j: symmetric by
       // Maxwell-Betti (the discrete K^-1 is symmetric) up to the solver error: round-off for the

@@ -16,7 +16,7 @@ namespace hertzgear::fem
   }
 
   template <int dim>
-  TabulatedFlankCompliance<dim>::TabulatedFlankCompliance(const ElasticBody<dim>      &body,
+  TabulatedFlankCompliance<dim>::TabulatedFlankCompliance(const BodyCompliance<dim>   &body,
                                                           const meshing::GearGeometry &gear,
                                                           const int                  central_tooth,
                                                           const FlankTableSettings  &settings)
@@ -74,10 +74,9 @@ namespace hertzgear::fem
     interpolated = table;
     if (settings.split_half_space)
       {
-        const auto &material = body.get_parameters();
         kernel = std::make_unique<half_space::PatchLoadKernel>(
-          settings.reference_depth_mm, settings.patch_radius_mm, material.youngs_modulus,
-          material.poisson_ratio);
+          settings.reference_depth_mm, settings.patch_radius_mm, body.youngs_modulus(),
+          body.poisson_ratio());
         for (Eigen::Index i = 0; i < table.rows(); ++i)
           for (Eigen::Index j = 0; j < table.cols(); ++j)
             interpolated(i, j) -= half_space_part(node_points[i], node_points[j]);

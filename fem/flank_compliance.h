@@ -53,7 +53,7 @@ namespace hertzgear::fem
   {
   public:
     // Computes the table (collective over the body's MPI communicator).
-    TabulatedFlankCompliance(const ElasticBody<dim> &body, const meshing::GearGeometry &gear,
+    TabulatedFlankCompliance(const BodyCompliance<dim> &body, const meshing::GearGeometry &gear,
                              int central_tooth, const FlankTableSettings &settings);
 
     double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const override;

@@ -83,7 +83,7 @@ namespace hertzgear
     namespace
     {
       void create_mumps(KSP &ksp, Mat A, MPI_Comm comm, const PCType factorisation,
-                        const long memory_limit_MB)
+                        const long memory_limit_MB, IS schur = nullptr)
       {
         check_petsc(KSPCreate(comm, &ksp), "KSPCreate");
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
@@ -105,6 +105,8 @@ namespace hertzgear
         if (!user_limit)
           check_petsc(MatMumpsSetIcntl(F, 23, static_cast<PetscInt>(limit_MB)),
                       "MatMumpsSetIcntl(23)");
+        if (schur != nullptr)
+          check_petsc(MatFactorSetSchurIS(F, schur), "MatFactorSetSchurIS");
         check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
         // PETSc does not stop on a failed MUMPS factorisation; a later substitution would fail
         // with a misleading INFOG(1) = -3. Say what MUMPS reported, now.
@@ -173,6 +175,34 @@ namespace hertzgear
     {
       check_petsc(MatSetOption(A, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
       create_mumps(ksp, A, comm, PCCHOLESKY, memory_limit_MB);
+    }
+
+    void create_mumps_cholesky_with_schur(KSP &ksp, Mat A, IS schur, const long memory_limit_MB)
+    {
+      check_petsc(MatSetOption(A, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
+      create_mumps(ksp, A, PETSC_COMM_SELF, PCCHOLESKY, memory_limit_MB, schur);
+    }
+
+    std::vector<double> schur_complement(KSP ksp, PetscInt &n)
+    {
+      PC  pc;
+      Mat F, S = nullptr;
+      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+      check_petsc(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+      check_petsc(MatFactorCreateSchurComplement(F, &S, nullptr), "MatFactorCreateSchurComplement");
+      PetscInt m = 0;
+      check_petsc(MatGetSize(S, &m, &n), "MatGetSize");
+      const PetscScalar *a = nullptr;
+      check_petsc(MatDenseGetArrayRead(S, &a), "MatDenseGetArrayRead");
+      PetscInt lda = 0;
+      check_petsc(MatDenseGetLDA(S, &lda), "MatDenseGetLDA");
+      std::vector<double> dense(static_cast<std::size_t>(n) * n);
+      for (PetscInt j = 0; j < n; ++j)
+        for (PetscInt i = 0; i < n; ++i)
+          dense[static_cast<std::size_t>(j) * n + i] = a[static_cast<std::size_t>(j) * lda + i];
+      check_petsc(MatDenseRestoreArrayRead(S, &a), "MatDenseRestoreArrayRead");
+      check_petsc(MatDestroy(&S), "MatDestroy");
+      return dense;
     }
 
     void mumps_block_solve(KSP ksp, const std::vector<Vec> &rhs, const std::vector<Vec> &solution)

@@ -26,6 +26,13 @@ namespace hertzgear
     // The same with a MUMPS Cholesky (LDL^T) factorisation of a symmetric positive definite A
     // (KSPPREONLY + PCCHOLESKY, A flagged MAT_SPD): half the factor memory and flops of the LU.
     void create_mumps_cholesky(KSP &ksp, Mat A, MPI_Comm comm, long memory_limit_MB = 0);
+    // The same, and MUMPS also computes the Schur complement of A on the rows and columns
+    // `schur` (a sequential A only), in the order of `schur`: S = A_ss - A_si A_ii^-1 A_is, read
+    // by schur_complement. Solves with `ksp` stay solves with the whole A.
+    void create_mumps_cholesky_with_schur(KSP &ksp, Mat A, IS schur, long memory_limit_MB = 0);
+    // The dense Schur complement of a factorisation made by create_mumps_cholesky_with_schur,
+    // column-major, n x n.
+    std::vector<double> schur_complement(KSP ksp, PetscInt &n);
 
     // Memory [MB] this process may still use: MemAvailable of /proc/meminfo, capped by the
     // cgroup (v2 memory.max - memory.current, or v1 limit - usage) when one is set, shared

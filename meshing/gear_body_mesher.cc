@@ -64,6 +64,8 @@ namespace hertzgear::meshing
       bool                      full = false;
       double                    z0   = 0;
       int                       origin = 0, surface = 0, volume = 0, top = 0;
+      int                       cut_start_curve = 0, cut_end_curve = 0; // sector only
+      double                    cut_angle_rad   = 0;
       std::vector<BoundaryCurve> curves;
       std::map<int, int>        lateral_of_curve; // 3D: curve tag -> extruded surface tag
 
@@ -196,6 +198,7 @@ namespace hertzgear::meshing
             const int    b_end    = polar_point(r_bore, a_end);
             int          c        = geo::addLine(space, b_end);
             add(c, Role::cut_end), outer.push_back(c);
+            cut_end_curve = c;
             // Circle arcs of the built-in kernel must stay below pi: split the bore.
             const int n_pieces = int(std::ceil((a_end - a_start) / (0.5 * pi) - 1e-12));
             int       prev     = b_end;
@@ -210,6 +213,8 @@ namespace hertzgear::meshing
             c = geo::addLine(b_start, first_space);
             add(c, Role::cut_start), outer.push_back(c);
             surface = geo::addPlaneSurface({geo::addCurveLoop(outer)});
+            cut_start_curve = c;
+            cut_angle_rad   = a_end - a_start;
           }
 
         if (s.dimension == 3)
@@ -221,6 +226,14 @@ namespace hertzgear::meshing
             volume = out[1].second;
           }
         geo::synchronize();
+        if (!full)
+          {
+            // The end cut is the start cut turned by the sector angle, node for node: the cyclic
+            // model ties the two faces DoF by DoF (3D: the extruded faces inherit the match).
+            const double c = std::cos(cut_angle_rad), s_ = std::sin(cut_angle_rad);
+            gmsh::model::mesh::setPeriodic(1, {cut_end_curve}, {cut_start_curve},
+                                           {c, -s_, 0, 0, s_, c, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1});
+          }
         if (s.dimension == 3)
           {
             std::vector<std::pair<int, int>> surfaces;

@@ -1,0 +1,127 @@
+#pragma once
+// The full gear, clamped at its bore, from one tooth sector: substructuring with a block-circulant
+// interface (docs/theory-tca.md, "Full gears from one tooth").
+//
+// A gear of N identical teeth is N copies of a one-tooth sector, each turned by theta = 2 pi / N.
+// The sector mesh has matching cut faces: the end cut B is the start cut A turned by theta, node
+// for node. Let K be the sector's stiffness matrix clamped at the bore only (cut faces free) and
+// S its Schur complement on the cut DoFs [A; B] (MUMPS computes S during the one sparse
+// factorisation of K). With every vector in its own sector's frame, the cut between sector s-1
+// and s carries the displacement u_s (A-face numbering, frame of sector s), sector s sees
+// [u_s; T u_{s+1}] on its cuts (T turns each node's vector by theta), and the gear's cut problem is
+// block-circulant:
+//   D u_s + E u_{s+1} + E^T u_{s-1} = q_s,   D = S_AA + T^T S_BB T,   E = S_AB T,
+// q_s the condensed loads. The discrete Fourier transform over the teeth, u_s = sum_k u^_k w^(ks)
+// with w = exp(2 pi i / N), splits it into the N/2 + 1 dense Hermitian systems
+//   H_k u^_k = q^_k,   H_k = D + w^k E + w^-k E^T,
+// factorised by LAPACK (zpotrf). A sector's readings follow from the sector's own factorisation:
+// the sector in the gear is the free sector under its own load f and the cut forces
+// h = S (u_c - u_c,free) that its neighbours exert. Exact to round-off, at the memory of one tooth
+// and one cut face.
+//
+// The harmonics are independent: with a communicator of P processes each factorises the
+// harmonics k = rank, rank + P, ... and the interface displacements are summed (MPI_Allreduce).
+#include "fem/body_compliance.h"
+#include "fem/elastic_body.h"
+
+#include <deal.II/grid/tria.h>
+
+#include <Eigen/Dense>
+
+#include <map>
+#include <memory>
+#include <set>
+#include <vector>
+
+namespace hertzgear::fem
+{
+  template <int dim>
+  class CyclicGearBody : public BodyCompliance<dim>
+  {
+  public:
+    struct Parameters
+    {
+      typename ElasticBody<dim>::Parameters body;     // clamped_boundary_id: the bore
+      unsigned int                         n_teeth = 0;
+      dealii::types::boundary_id           cut_start_id = 11; // the sector's clockwise cut (A)
+      dealii::types::boundary_id           cut_end_id   = 12; // A turned by 2 pi / n_teeth (B)
+      // Who shares the harmonics (each process holds the whole sector).
+      MPI_Comm harmonic_communicator = MPI_COMM_SELF;
+    };
+
+    // `sector`: a serial triangulation of one tooth centred on +x (the tooth at polar angle 0),
+    // whose cut faces lie at -pi/N and +pi/N; it must outlive the body.
+    CyclicGearBody(const dealii::Triangulation<dim> &sector, const Parameters &parameters);
+    ~CyclicGearBody() override;
+
+    // Patch loads may only touch these boundary ids (the flank of the sector's tooth).
+    void set_load_boundary_ids(const std::set<dealii::types::boundary_id> &ids);
+    // Assembly, the pairing of the cut faces (InputError if they do not match), the sparse
+    // factorisation with the Schur complement, and the interface blocks D and E.
+    void run();
+
+    // Loads and readings anywhere on the full gear, in the gear's frame (tooth t at polar angle
+    // t theta): C(r, l) of the full gear. A load or reading on tooth t is turned into the sector
+    // (by -t theta); equal local loads and readings are solved once.
+    dealii::FullMatrix<double> compliance(const std::vector<PatchLoad<dim>>    &loads,
+                                          const std::vector<PointReading<dim>> &readings) const override;
+    double youngs_modulus() const override { return parameters.body.youngs_modulus; }
+    double poisson_ratio() const override { return parameters.body.poisson_ratio; }
+
+    // The cut-face displacements u_s (A numbering, frame of sector s) for s = s_min .. s_max of the
+    // full gear under the condensed loads q (sector -> n_cut x m matrix), all harmonics.
+    // `only_harmonic` >= 0 keeps that harmonic alone (tests of the transform).
+    std::map<int, Eigen::MatrixXd> solve_interface(const std::map<int, Eigen::MatrixXd> &q, int s_min,
+                                                   int s_max, int only_harmonic = -1) const;
+    // The harmonic content of condensed loads: ||q^_k||_F for k = 0 .. N/2 (tests: a load
+    // pattern that is one pure harmonic has only that one).
+    std::vector<double> harmonic_norms(const std::map<int, Eigen::MatrixXd> &q) const;
+
+    // Patch loads given per sector in the sector's own frame (loads[s] carrying forces[s]):
+    // the free sector's field under each sector's own load and the condensed cut loads q.
+    struct CondensedLoads
+    {
+      std::map<int, typename ElasticBody<dim>::VectorType> free_fields; // ghosted
+      std::map<int, Eigen::MatrixXd>                       q;           // n_cut x 1
+    };
+    CondensedLoads condense(const std::map<int, std::vector<PatchLoad<dim>>> &loads,
+                            const std::map<int, std::vector<double>>         &forces) const;
+    // Displacement fields of the sectors `sectors` of the full gear under those loads; ghosted,
+    // on the sector mesh, each in its sector's frame.
+    std::map<int, typename ElasticBody<dim>::VectorType>
+    sector_fields(const CondensedLoads &loads, const std::vector<int> &sectors,
+                  int only_harmonic = -1) const;
+
+    const ElasticBody<dim> &sector_body() const { return body; }
+    unsigned int            n_teeth() const { return parameters.n_teeth; }
+    unsigned int            n_cut_dofs() const { return static_cast<unsigned int>(cut_a.size()); }
+    dealii::types::global_dof_index n_dofs() const { return body.n_dofs(); }
+    // The tooth a point of the gear belongs to, and the point turned into the sector.
+    int                tooth_of(const dealii::Point<dim> &x) const;
+    dealii::Point<dim> to_sector(const dealii::Point<dim> &x, int tooth) const;
+    dealii::Tensor<1, dim> to_sector(const dealii::Tensor<1, dim> &v, int tooth) const;
+    const PhaseTimer &get_timer() const { return timer; }
+
+  private:
+    using VectorType = typename ElasticBody<dim>::VectorType;
+
+    void pair_cut_faces();
+    void factorise();
+    // Sector solves K^-1 b for every right-hand side, in blocks; `use` gets each solution.
+    void solve_sector(std::vector<VectorType> &rhs,
+                      const std::function<void(std::size_t, const VectorType &)> &use) const;
+    Eigen::VectorXd cut_values(const VectorType &u) const; // [A; B]
+    // T x and T^T x on A-numbered node vectors.
+    Eigen::MatrixXd turn(const Eigen::MatrixXd &x, bool transpose) const;
+
+    const Parameters parameters;
+    ElasticBody<dim> body;
+    double           theta = 0;
+    std::vector<dealii::types::global_dof_index> cut_a, cut_b; // node-blocked, paired
+    Eigen::MatrixXd S;                                         // [A; B] x [A; B]
+    Eigen::MatrixXd D, E;
+    struct Factorisation;
+    std::unique_ptr<Factorisation> factorisation;
+    mutable PhaseTimer timer;
+  };
+} // namespace hertzgear::fem
