@@ -346,12 +346,19 @@ namespace hertzgear
 
     void declare_mesh(SceneSchema &s, MeshScene &m)
     {
+      m.body_model        = "full-gear";
       m.teeth_per_sector  = 5;
       m.face_width_layers = 8;
       s.enter("Mesh", "gmsh meshes of the gear bodies.");
+      s.add("body_model", m.body_model, Patterns::Selection("full-gear|sector"),
+            "What each FE body is: full-gear = the whole gear clamped at its bore, computed exactly "
+            "from one meshed tooth sector by cyclic symmetry; sector = a meshed sector of "
+            "teeth_per_sector teeth clamped at its bore and at both cuts (an approximation, stiffer "
+            "than the gear; docs/accuracy-stiffness.md measures it).");
       s.add("teeth_per_sector", m.teeth_per_sector, Patterns::Integer(1, 1000),
-            "Teeth in the meshed sector of each body (count, odd recommended: the loaded tooth in "
-            "the middle); a value >= the number of teeth meshes the full gear.");
+            "body_model = sector: teeth in the meshed sector of each body (count, odd recommended: "
+            "the loaded tooth in the middle); a value >= the number of teeth meshes the full gear "
+            "as one body.");
       s.add("face_width_layers", m.face_width_layers, Patterns::Integer(1, 512),
             "Element layers across the face width of 3D meshes at level 0 (count).");
       s.leave();

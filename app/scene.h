@@ -82,6 +82,7 @@ namespace hertzgear
 
   struct MeshScene
   {
+    std::string body_model;   // full-gear | sector
     int teeth_per_sector  = 0;
     int face_width_layers = 0;
   };

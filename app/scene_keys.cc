@@ -21,6 +21,7 @@ namespace hertzgear
         {"level", "Stiffness/fe_level"},
         {"degree", "Stiffness/fe_degree"},
         {"teeth_per_sector", "Mesh/teeth_per_sector"},
+        {"body_model", "Mesh/body_model"},
         {"face_width_layers", "Mesh/face_width_layers"},
         {"contact_grid_profile_cells", "Stiffness/contact_grid_profile_points"},
         {"contact_grid_face_cells", "Stiffness/contact_grid_face_points"},

@@ -59,6 +59,7 @@ namespace hertzgear
     fe.dimension                  = st.fe_dimension;
     fe.level                      = st.fe_level;
     fe.degree                     = st.fe_degree;
+    fe.body_model                 = scene.mesh.body_model;
     fe.teeth_per_sector           = scene.mesh.teeth_per_sector;
     fe.face_width_layers          = scene.mesh.face_width_layers;
     fe.contact_grid_profile_cells = st.contact_grid_profile_points;

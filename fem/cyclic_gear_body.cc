@@ -7,6 +7,8 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/lac/lapack_templates.h>
 
+#include <Eigen/Sparse>
+
 #include <petscksp.h>
 
 #include <algorithm>
@@ -92,6 +94,8 @@ namespace hertzgear::fem
   void CyclicGearBody<dim>::run()
   {
     body.assemble();
+    for (const auto &[phase, seconds] : body.get_timer().phases())
+      timer.add(phase, seconds);
     {
       PhaseTimer::Scope t(timer, "cut faces");
       pair_cut_faces();
@@ -224,9 +228,28 @@ namespace hertzgear::fem
     ISDestroy(&is);
     PetscInt n = 0;
     const auto dense = schur_complement(factorisation->ksp, n);
+    // From now on a solve is one with the interior block K_II alone (cut faces held at zero).
+    mumps_interior_solves(factorisation->ksp);
     HG_REQUIRE_NUMERIC(static_cast<std::size_t>(n) == 2 * n_a, "the Schur complement has ", n,
                        " rows, not ", 2 * n_a);
     S = Eigen::Map<const Eigen::MatrixXd>(dense.data(), n, n);
+    {
+      // The cut rows of K, for the cut reactions (K x)_c of interior solutions.
+      const Mat K = body.get_system_matrix();
+      std::vector<Eigen::Triplet<double>> entries;
+      for (std::size_t r = 0; r < schur_rows.size(); ++r)
+        {
+          PetscInt           n_cols = 0;
+          const PetscInt    *cols   = nullptr;
+          const PetscScalar *vals   = nullptr;
+          check_petsc(MatGetRow(K, schur_rows[r], &n_cols, &cols, &vals), "MatGetRow");
+          for (PetscInt k = 0; k < n_cols; ++k)
+            entries.emplace_back(static_cast<int>(r), static_cast<int>(cols[k]), vals[k]);
+          check_petsc(MatRestoreRow(K, schur_rows[r], &n_cols, &cols, &vals), "MatRestoreRow");
+        }
+      K_cut.resize(static_cast<Eigen::Index>(schur_rows.size()), static_cast<Eigen::Index>(body.n_dofs()));
+      K_cut.setFromTriplets(entries.begin(), entries.end());
+    }
     S = 0.5 * (S + S.transpose()).eval();
     const Eigen::Index m    = static_cast<Eigen::Index>(n_a);
     const Eigen::MatrixXd S_BB_T = turn(S.bottomRightCorner(m, m), true).transpose(); // S_BB T
@@ -308,28 +331,73 @@ namespace hertzgear::fem
   }
 
   template <int dim>
-  void CyclicGearBody<dim>::solve_sector(std::vector<VectorType> &rhs,
-                                         const std::function<void(std::size_t, const VectorType &)> &use) const
+  Eigen::VectorXd CyclicGearBody<dim>::cut_reaction(const VectorType &x) const
   {
+    // (K x) on the cut rows alone: the rows of K at [A; B], extracted once.
+    const PetscScalar *values = nullptr;
+    check_petsc(VecGetArrayRead(x, &values), "VecGetArrayRead");
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(K_cut.rows());
+    for (Eigen::Index r = 0; r < K_cut.outerSize(); ++r)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(K_cut, r); it; ++it)
+        y[r] += it.value() * values[it.col()];
+    check_petsc(VecRestoreArrayRead(x, &values), "VecRestoreArrayRead");
+    return y;
+  }
+
+  template <int dim>
+  void CyclicGearBody<dim>::zero_cut_entries(VectorType &v) const
+  {
+    PetscScalar *values = nullptr;
+    check_petsc(VecGetArray(v, &values), "VecGetArray");
+    for (std::size_t i = 0; i < cut_a.size(); ++i)
+      values[cut_a[i]] = values[cut_b[i]] = 0.0;
+    check_petsc(VecRestoreArray(v, &values), "VecRestoreArray");
+  }
+
+  template <int dim>
+  void CyclicGearBody<dim>::solve_interior(std::vector<VectorType> &rhs,
+                                           const std::function<void(std::size_t, const VectorType &)> &use) const
+  {
+    solve_interior(rhs.size(), [&](const std::size_t j) { return std::move(rhs[j]); }, use);
+    rhs.clear();
+  }
+
+  template <int dim>
+  void CyclicGearBody<dim>::solve_interior(const std::size_t n_rhs,
+                                           const std::function<VectorType(std::size_t)> &make_rhs,
+                                           const std::function<void(std::size_t, const VectorType &)> &use) const
+  {
+    // Right-hand sides are made per block: only one block of them and of their solutions is
+    // held at a time.
     const std::size_t block = static_cast<std::size_t>(
       std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, body.n_dofs())))));
-    for (std::size_t start = 0; start < rhs.size(); start += block)
+    for (std::size_t start = 0; start < n_rhs; start += block)
       {
-        const std::size_t       end = std::min(rhs.size(), start + block);
+        const std::size_t       end = std::min(n_rhs, start + block);
         std::vector<Vec>        b, x;
-        std::vector<VectorType> solutions(end - start);
+        std::vector<VectorType> rhs, solutions(end - start);
         for (std::size_t j = start; j < end; ++j)
           {
+            rhs.push_back(make_rhs(j));
+            zero_cut_entries(rhs.back());
             solutions[j - start].reinit(body.get_locally_owned_dofs(), MPI_COMM_SELF);
-            b.push_back(rhs[j]);
+          }
+        for (std::size_t j = start; j < end; ++j)
+          {
+            b.push_back(rhs[j - start]);
             x.push_back(solutions[j - start]);
           }
         {
           PhaseTimer::Scope t(timer, "solves");
           mumps_block_solve(factorisation->ksp, b, x);
         }
+        rhs.clear();
         for (std::size_t j = start; j < end; ++j)
-          use(j, body.ghosted_solution(solutions[j - start]));
+          {
+            auto &u = solutions[j - start];
+            zero_cut_entries(u);
+            use(j, body.ghosted_solution(u));
+          }
       }
   }
 
@@ -372,50 +440,68 @@ namespace hertzgear::fem
       }
 
     const std::size_t n_l = unique_loads.size(), n_r = unique_readings.size(), n_c = 2 * cut_a.size();
+    std::map<types::global_dof_index, std::size_t> cut_index; // DoF -> row of [A; B]
+    for (std::size_t i = 0; i < cut_a.size(); ++i)
+      cut_index[cut_a[i]] = i, cut_index[cut_b[i]] = cut_a.size() + i;
+    // Each reading split into its interior functional and its cut-face part r_c.
     std::vector<std::vector<std::pair<types::global_dof_index, double>>> functionals;
-    std::vector<VectorType> rhs;
+    Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_r), static_cast<Eigen::Index>(n_c));
+    Eigen::MatrixXd G(n_c, n_l); // condensed loads f_c - K_cI K_II^-1 f_I of the loaded sector
     {
       PhaseTimer::Scope t(timer, "load vectors");
-      for (const auto &load : unique_loads)
-        rhs.push_back(body.patch_load_vector(load));
-      for (const auto &reading : unique_readings)
+      for (std::size_t r = 0; r < n_r; ++r)
         {
-          functionals.push_back(body.reading_functional(reading));
-          VectorType r(body.get_locally_owned_dofs(), MPI_COMM_SELF);
-          for (const auto &[dof, w] : functionals.back())
-            r[dof] += w;
-          r.compress(VectorOperation::add);
-          rhs.push_back(std::move(r));
+          functionals.emplace_back();
+          for (const auto &[dof, w] : body.reading_functional(unique_readings[r]))
+            {
+              const auto c = cut_index.find(dof);
+              if (c != cut_index.end())
+                Z(r, c->second) += w;
+              else
+                functionals.back().emplace_back(dof, w);
+            }
         }
     }
-    // U_c: cut displacements of the free sector under each load; W_c: those of each reading's
-    // adjoint field (K^-1 r), so that r . K^-1 [0; h] = W_c^T h.
-    Eigen::MatrixXd Uc(n_c, n_l), Wc(n_c, n_r), free_readings(n_r, n_l);
-    solve_sector(rhs, [&](const std::size_t j, const VectorType &u) {
+    const auto make_rhs = [&](const std::size_t j) {
+      PhaseTimer::Scope t(timer, "load vectors");
       if (j < n_l)
         {
-          Uc.col(j) = cut_values(u);
+          VectorType f = body.patch_load_vector(unique_loads[j]);
+          G.col(j)     = cut_values(f);
+          return f;
+        }
+      VectorType v(body.get_locally_owned_dofs(), MPI_COMM_SELF);
+      for (const auto &[dof, w] : functionals[j - n_l])
+        v[dof] += w;
+      v.compress(VectorOperation::add);
+      return v;
+    };
+    // Interior solves (cut faces held at zero): x = K_II^-1 f for the loads, w = K_II^-1 r_I
+    // for the readings. A reading of a sector with cut displacement u_c and own load f is then
+    // r_I . x - (K_cI w) . u_c + r_c . u_c.
+    Eigen::MatrixXd interior_readings(n_r, n_l);
+    solve_interior(n_l + n_r, make_rhs, [&](const std::size_t j, const VectorType &x) {
+      if (j < n_l)
+        {
+          G.col(j) -= cut_reaction(x);
           for (std::size_t r = 0; r < n_r; ++r)
             {
               double value = 0;
               for (const auto &[dof, w] : functionals[r])
-                value += w * u[dof];
-              free_readings(r, j) = value;
+                value += w * x[dof];
+              interior_readings(r, j) = value;
             }
         }
       else
-        Wc.col(j - n_l) = cut_values(u);
+        Z.row(j - n_l) -= cut_reaction(x).transpose();
     });
-    rhs.clear();
 
-    const Eigen::Index    m  = static_cast<Eigen::Index>(cut_a.size());
-    const Eigen::MatrixXd g  = S * Uc;               // condensed loads of the loaded sector
-    const Eigen::MatrixXd ZS = Wc.transpose() * S;   // reading of a cut displacement
+    const Eigen::Index m = static_cast<Eigen::Index>(cut_a.size());
     int d_min = 0, d_max = 0;
     for (const auto &[tr, r] : reading_of)
       for (const auto &[tl, l] : load_of)
         d_min = std::min(d_min, tr - tl), d_max = std::max(d_max, tr - tl);
-    const auto u = solve_interface({{0, g.topRows(m)}, {1, turn(g.bottomRows(m), true)}}, d_min, d_max + 1);
+    const auto u = solve_interface({{0, G.topRows(m)}, {1, turn(G.bottomRows(m), true)}}, d_min, d_max + 1);
 
     PhaseTimer::Scope t(timer, "readings");
     std::map<int, Eigen::MatrixXd> Y;
@@ -424,9 +510,9 @@ namespace hertzgear::fem
         Eigen::MatrixXd cut(n_c, n_l);
         cut.topRows(m)    = u.at(d);
         cut.bottomRows(m) = turn(u.at(d + 1), false);
-        Y[d]              = ZS * cut;
+        Y[d]              = Z * cut;
         if (d == 0)
-          Y[d] += free_readings - ZS * Uc;
+          Y[d] += interior_readings;
       }
     FullMatrix<double> C(readings.size(), loads.size());
     for (std::size_t r = 0; r < readings.size(); ++r)
@@ -437,94 +523,109 @@ namespace hertzgear::fem
 
   template <int dim>
   typename CyclicGearBody<dim>::CondensedLoads
-  CyclicGearBody<dim>::condense(const std::map<int, std::vector<PatchLoad<dim>>> &loads,
-                                const std::map<int, std::vector<double>>         &forces) const
+  CyclicGearBody<dim>::condense(const std::vector<SectorLoads> &cases) const
   {
     HG_REQUIRE_INPUT(factorisation != nullptr, "CyclicGearBody::run() must be called first");
-    const Eigen::Index      m = static_cast<Eigen::Index>(cut_a.size());
-    std::vector<int>        loaded;
-    std::vector<VectorType> rhs;
+    const Eigen::Index                  m = static_cast<Eigen::Index>(cut_a.size());
+    const Eigen::Index                  n_cases = static_cast<Eigen::Index>(cases.size());
+    std::vector<std::pair<Eigen::Index, int>> loaded; // (case, sector) of each right-hand side
+    std::vector<VectorType>             rhs;
     {
       PhaseTimer::Scope t(timer, "load vectors");
-      for (const auto &[s, set] : loads)
-        {
-          HG_REQUIRE_INPUT(forces.count(s) && forces.at(s).size() == set.size(), "sector ", s,
-                           ": ", set.size(), " loads but not as many forces");
-          VectorType total(body.get_locally_owned_dofs(), MPI_COMM_SELF);
-          for (std::size_t k = 0; k < set.size(); ++k)
-            if (forces.at(s)[k] != 0.0)
-              total.add(forces.at(s)[k], body.patch_load_vector(set[k]));
-          loaded.push_back(s);
-          rhs.push_back(std::move(total));
-        }
+      for (Eigen::Index c = 0; c < n_cases; ++c)
+        for (const auto &[s, set] : cases[c].loads)
+          {
+            const auto f = cases[c].forces.find(s);
+            HG_REQUIRE_INPUT(f != cases[c].forces.end() && f->second.size() == set.size(),
+                             "sector ", s, ": ", set.size(), " loads but not as many forces");
+            VectorType total(body.get_locally_owned_dofs(), MPI_COMM_SELF);
+            for (std::size_t k = 0; k < set.size(); ++k)
+              if (f->second[k] != 0.0)
+                total.add(f->second[k], body.patch_load_vector(set[k]));
+            loaded.emplace_back(c, s);
+            rhs.push_back(std::move(total));
+          }
     }
-    CondensedLoads c;
-    solve_sector(rhs, [&](const std::size_t j, const VectorType &u) {
-      const int             s = loaded[j];
-      const Eigen::VectorXd g = S * cut_values(u);
-      const auto add = [&](const int sector, const Eigen::MatrixXd &v) {
-        const auto it = c.q.find(sector);
-        if (it == c.q.end())
-          c.q[sector] = v;
-        else
-          it->second += v;
-      };
-      add(s, g.head(m));
-      add(s + 1, turn(g.tail(m), true));
-      c.free_fields[s] = u;
+    CondensedLoads result;
+    result.free_fields.resize(cases.size());
+    std::vector<Eigen::VectorXd> f_cut;
+    for (const auto &f : rhs)
+      f_cut.push_back(cut_values(f));
+    solve_interior(rhs, [&](const std::size_t j, const VectorType &u) {
+      const auto [c, s]       = loaded[j];
+      const Eigen::VectorXd g = f_cut[j] - cut_reaction(u);
+      for (const auto &[sector, part] : {std::pair<int, Eigen::VectorXd>{s, g.head(m)},
+                                         std::pair<int, Eigen::VectorXd>{s + 1, turn(g.tail(m), true)}})
+        {
+          auto it = result.q.find(sector);
+          if (it == result.q.end())
+            it = result.q.emplace(sector, Eigen::MatrixXd::Zero(m, n_cases)).first;
+          it->second.col(c) += part;
+        }
+      result.free_fields[c][s] = u;
     });
-    return c;
+    return result;
   }
 
   template <int dim>
-  std::map<int, typename ElasticBody<dim>::VectorType>
+  std::vector<std::map<int, typename ElasticBody<dim>::VectorType>>
   CyclicGearBody<dim>::sector_fields(const CondensedLoads &loads, const std::vector<int> &sectors,
                                      const int only_harmonic) const
   {
     HG_REQUIRE_INPUT(!sectors.empty(), "sector_fields: no sector asked for");
-    const Eigen::Index m     = static_cast<Eigen::Index>(cut_a.size());
-    const int          s_min = *std::min_element(sectors.begin(), sectors.end());
-    const int          s_max = *std::max_element(sectors.begin(), sectors.end()) + 1;
+    const Eigen::Index m       = static_cast<Eigen::Index>(cut_a.size());
+    const std::size_t  n_cases = loads.free_fields.size();
+    const int          s_min   = *std::min_element(sectors.begin(), sectors.end());
+    const int          s_max   = *std::max_element(sectors.begin(), sectors.end()) + 1;
     std::map<int, Eigen::MatrixXd> u;
     if (loads.q.empty())
       for (int s = s_min; s <= s_max; ++s)
-        u[s] = Eigen::MatrixXd::Zero(m, 1);
+        u[s] = Eigen::MatrixXd::Zero(m, static_cast<Eigen::Index>(n_cases));
     else
       u = solve_interface(loads.q, s_min, s_max, only_harmonic);
 
-    // Sector s = the free sector under its own load and the cut forces h = S (u_c - u_c,free).
-    std::vector<VectorType> rhs;
-    for (const int s : sectors)
-      {
-        Eigen::VectorXd cut(2 * m);
-        cut.head(m) = u.at(s).col(0);
-        cut.tail(m) = turn(u.at(s + 1), false).col(0);
-        const auto free = loads.free_fields.find(s);
-        if (free != loads.free_fields.end())
-          cut -= cut_values(free->second);
-        const Eigen::VectorXd h = S * cut;
-        VectorType            f(body.get_locally_owned_dofs(), MPI_COMM_SELF);
-        for (Eigen::Index i = 0; i < m; ++i)
-          {
-            f[cut_a[i]] += h[i];
-            f[cut_b[i]] += h[m + i];
-          }
-        f.compress(VectorOperation::add);
-        rhs.push_back(std::move(f));
-      }
-    std::map<int, VectorType> fields;
-    solve_sector(rhs, [&](const std::size_t j, const VectorType &v) {
-      const int  s = sectors[j];
+    // Sector s: cut displacement u_c, interior K_II^-1 (f_I - K_Ic u_c).
+    std::vector<VectorType>                   rhs;
+    std::vector<std::pair<std::size_t, int>> which;
+    std::vector<Eigen::VectorXd>              cuts;
+    for (std::size_t c = 0; c < n_cases; ++c)
+      for (const int s : sectors)
+        {
+          Eigen::VectorXd cut(2 * m);
+          cut.head(m) = u.at(s).col(static_cast<Eigen::Index>(c));
+          cut.tail(m) = turn(u.at(s + 1).col(static_cast<Eigen::Index>(c)), false);
+          VectorType on_cut(body.get_locally_owned_dofs(), MPI_COMM_SELF), f(body.get_locally_owned_dofs(), MPI_COMM_SELF);
+          for (Eigen::Index i = 0; i < m; ++i)
+            {
+              on_cut[cut_a[i]] = cut[i];
+              on_cut[cut_b[i]] = cut[m + i];
+            }
+          on_cut.compress(VectorOperation::insert);
+          body.get_system_matrix().vmult(f, on_cut);
+          f *= -1.0;
+          rhs.push_back(std::move(f));
+          which.emplace_back(c, s);
+          cuts.push_back(cut);
+        }
+    std::vector<std::map<int, VectorType>> fields(n_cases);
+    solve_interior(rhs, [&](const std::size_t j, const VectorType &v) {
+      const auto [c, s] = which[j];
       VectorType field(body.get_locally_owned_dofs(), MPI_COMM_SELF);
-      field            = v;
-      const auto free = loads.free_fields.find(s);
-      if (free != loads.free_fields.end())
+      field           = v;
+      const auto free = loads.free_fields[c].find(s);
+      if (free != loads.free_fields[c].end())
         {
           VectorType owned(body.get_locally_owned_dofs(), MPI_COMM_SELF);
           owned = free->second;
           field += owned;
         }
-      fields[s] = body.ghosted_solution(field);
+      for (Eigen::Index i = 0; i < m; ++i)
+        {
+          field[cut_a[i]] = cuts[j][i];
+          field[cut_b[i]] = cuts[j][m + i];
+        }
+      field.compress(VectorOperation::insert);
+      fields[c][s] = body.ghosted_solution(field);
     });
     return fields;
   }

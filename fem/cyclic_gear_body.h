@@ -14,10 +14,10 @@
 // q_s the condensed loads. The discrete Fourier transform over the teeth, u_s = sum_k u^_k w^(ks)
 // with w = exp(2 pi i / N), splits it into the N/2 + 1 dense Hermitian systems
 //   H_k u^_k = q^_k,   H_k = D + w^k E + w^-k E^T,
-// factorised by LAPACK (zpotrf). A sector's readings follow from the sector's own factorisation:
-// the sector in the gear is the free sector under its own load f and the cut forces
-// h = S (u_c - u_c,free) that its neighbours exert. Exact to round-off, at the memory of one tooth
-// and one cut face.
+// factorised by LAPACK (zpotrf). The same MUMPS factorisation then solves the interior block
+// K_II alone (cut faces held at zero, MUMPS ICNTL(26) = 0): the condensed load of a sector is
+// q = f_c - K_cI K_II^-1 f_I, and a sector with cut displacement u_c has the interior
+// K_II^-1 (f_I - K_Ic u_c). Exact to round-off, at the memory of one tooth and one cut face.
 //
 // The harmonics are independent: with a communicator of P processes each factorises the
 // harmonics k = rank, rank + P, ... and the interface displacements are summed (MPI_Allreduce).
@@ -27,6 +27,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
 #include <map>
 #include <memory>
@@ -77,18 +78,24 @@ namespace hertzgear::fem
     // pattern that is one pure harmonic has only that one).
     std::vector<double> harmonic_norms(const std::map<int, Eigen::MatrixXd> &q) const;
 
-    // Patch loads given per sector in the sector's own frame (loads[s] carrying forces[s]):
-    // the free sector's field under each sector's own load and the condensed cut loads q.
+    // One load case of the gear: patch loads per sector in the sector's own frame, loads[s]
+    // carrying forces[s].
+    struct SectorLoads
+    {
+      std::map<int, std::vector<PatchLoad<dim>>> loads;
+      std::map<int, std::vector<double>>         forces;
+    };
+    // Per case, the free sector's field under each loaded sector's own load, and the condensed
+    // cut loads q (sector -> n_cut x n_cases).
     struct CondensedLoads
     {
-      std::map<int, typename ElasticBody<dim>::VectorType> free_fields; // ghosted
-      std::map<int, Eigen::MatrixXd>                       q;           // n_cut x 1
+      std::vector<std::map<int, typename ElasticBody<dim>::VectorType>> free_fields; // ghosted
+      std::map<int, Eigen::MatrixXd>                                    q;
     };
-    CondensedLoads condense(const std::map<int, std::vector<PatchLoad<dim>>> &loads,
-                            const std::map<int, std::vector<double>>         &forces) const;
-    // Displacement fields of the sectors `sectors` of the full gear under those loads; ghosted,
-    // on the sector mesh, each in its sector's frame.
-    std::map<int, typename ElasticBody<dim>::VectorType>
+    CondensedLoads condense(const std::vector<SectorLoads> &cases) const;
+    // Displacement fields of the sectors `sectors` of the full gear, per case; ghosted, on the
+    // sector mesh, each in its sector's frame.
+    std::vector<std::map<int, typename ElasticBody<dim>::VectorType>>
     sector_fields(const CondensedLoads &loads, const std::vector<int> &sectors,
                   int only_harmonic = -1) const;
 
@@ -107,10 +114,15 @@ namespace hertzgear::fem
 
     void pair_cut_faces();
     void factorise();
-    // Sector solves K^-1 b for every right-hand side, in blocks; `use` gets each solution.
-    void solve_sector(std::vector<VectorType> &rhs,
-                      const std::function<void(std::size_t, const VectorType &)> &use) const;
-    Eigen::VectorXd cut_values(const VectorType &u) const; // [A; B]
+    // Interior solves K_II^-1 b_I (cut faces held at zero; the cut entries of b are ignored and
+    // those of the solution are 0) for every right-hand side, in blocks; `use` gets each.
+    void solve_interior(std::vector<VectorType> &rhs,
+                        const std::function<void(std::size_t, const VectorType &)> &use) const;
+    void solve_interior(std::size_t n_rhs, const std::function<VectorType(std::size_t)> &make_rhs,
+                        const std::function<void(std::size_t, const VectorType &)> &use) const;
+    Eigen::VectorXd cut_values(const VectorType &u) const;   // [A; B]
+    Eigen::VectorXd cut_reaction(const VectorType &x) const; // (K x) on [A; B]
+    void            zero_cut_entries(VectorType &v) const;
     // T x and T^T x on A-numbered node vectors.
     Eigen::MatrixXd turn(const Eigen::MatrixXd &x, bool transpose) const;
 
@@ -120,6 +132,7 @@ namespace hertzgear::fem
     std::vector<dealii::types::global_dof_index> cut_a, cut_b; // node-blocked, paired
     Eigen::MatrixXd S;                                         // [A; B] x [A; B]
     Eigen::MatrixXd D, E;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> K_cut; // the rows of K at [A; B]
     struct Factorisation;
     std::unique_ptr<Factorisation> factorisation;
     mutable PhaseTimer timer;

@@ -22,6 +22,39 @@ namespace hertzgear::fem
                                                           const FlankTableSettings  &settings)
     : geometry(&gear), settings(settings)
   {
+    (void)central_tooth; // the body frame already centres the central tooth on +x
+    std::vector<PatchLoad<dim>>    loads;
+    std::vector<PointReading<dim>> readings;
+    set_up_nodes(&loads, &readings);
+    const dealii::FullMatrix<double> c = body.compliance(loads, readings);
+    table.resize(c.m(), c.n());
+    for (unsigned int i = 0; i < c.m(); ++i)
+      for (unsigned int j = 0; j < c.n(); ++j)
+        table(i, j) = c(i, j) * scale;
+    finish(body.youngs_modulus(), body.poisson_ratio());
+  }
+
+  template <int dim>
+  TabulatedFlankCompliance<dim>::TabulatedFlankCompliance(const Eigen::MatrixXd &raw,
+                                                          const double youngs_modulus,
+                                                          const double poisson_ratio,
+                                                          const meshing::GearGeometry &gear,
+                                                          const FlankTableSettings  &settings)
+    : geometry(&gear), settings(settings)
+  {
+    set_up_nodes(nullptr, nullptr);
+    HG_REQUIRE_INPUT(raw.rows() == static_cast<Eigen::Index>(node_points.size()) &&
+                       raw.cols() == static_cast<Eigen::Index>(node_points.size()),
+                     "flank table: a ", raw.rows(), " x ", raw.cols(), " table for ",
+                     node_points.size(), " nodes");
+    table = raw;
+    finish(youngs_modulus, poisson_ratio);
+  }
+
+  template <int dim>
+  void TabulatedFlankCompliance<dim>::set_up_nodes(std::vector<PatchLoad<dim>>    *loads,
+                                                   std::vector<PointReading<dim>> *readings)
+  {
     HG_REQUIRE_INPUT(settings.n_roll >= 2, "flank table: at least 2 roll nodes");
     HG_REQUIRE_INPUT(settings.roll_max_mm > settings.roll_min_mm,
                      "flank table: empty active profile (roll ", settings.roll_min_mm, " to ",
@@ -32,7 +65,7 @@ namespace hertzgear::fem
     for (unsigned int i = 0; i < settings.n_roll; ++i)
       roll_nodes.push_back(settings.roll_min_mm + (settings.roll_max_mm - settings.roll_min_mm) *
                                                     i / (settings.n_roll - 1.0));
-    const double b = gear.face_width_mm();
+    const double b = geometry->face_width_mm();
     if (dim == 2)
       {
         face_nodes = {0.0};
@@ -46,37 +79,32 @@ namespace hertzgear::fem
         for (unsigned int i = 0; i < settings.n_face; ++i)
           face_nodes.push_back(z0 + (b - 2 * settings.patch_radius_mm) * i / (settings.n_face - 1.0));
       }
-
     HG_REQUIRE_INPUT(!settings.split_half_space || dim == 3,
                      "flank table: the half-space split is a 3D option");
-    using Load    = typename ElasticBody<dim>::PatchLoad;
-    using Reading = typename ElasticBody<dim>::PointReading;
-    std::vector<Load>    loads;
-    std::vector<Reading> readings;
     for (const int t : settings.teeth)
       for (const double roll : roll_nodes)
         for (const double z : face_nodes)
           {
-            const Load load = patch_load({t, roll, z});
-            Reading    reading;
+            node_points.push_back({t, roll, z});
+            if (loads == nullptr)
+              continue;
+            const PatchLoad<dim> load = patch_load({t, roll, z});
+            PointReading<dim>    reading;
             reading.point     = load.centre + settings.reference_depth_mm * load.direction;
             reading.direction = load.direction;
-            loads.push_back(load);
-            readings.push_back(reading);
-            node_points.push_back({t, roll, z});
+            loads->push_back(load);
+            readings->push_back(reading);
           }
-    (void)central_tooth; // the body frame already centres the central tooth on +x
-    const dealii::FullMatrix<double> c = body.compliance(loads, readings);
-    table.resize(c.m(), c.n());
-    for (unsigned int i = 0; i < c.m(); ++i)
-      for (unsigned int j = 0; j < c.n(); ++j)
-        table(i, j) = c(i, j) * scale;
+  }
+
+  template <int dim>
+  void TabulatedFlankCompliance<dim>::finish(const double youngs_modulus, const double poisson_ratio)
+  {
     interpolated = table;
     if (settings.split_half_space)
       {
         kernel = std::make_unique<half_space::PatchLoadKernel>(
-          settings.reference_depth_mm, settings.patch_radius_mm, body.youngs_modulus(),
-          body.poisson_ratio());
+          settings.reference_depth_mm, settings.patch_radius_mm, youngs_modulus, poisson_ratio);
         for (Eigen::Index i = 0; i < table.rows(); ++i)
           for (Eigen::Index j = 0; j < table.cols(); ++j)
             interpolated(i, j) -= half_space_part(node_points[i], node_points[j]);

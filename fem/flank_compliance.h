@@ -56,6 +56,11 @@ namespace hertzgear::fem
     TabulatedFlankCompliance(const BodyCompliance<dim> &body, const meshing::GearGeometry &gear,
                              int central_tooth, const FlankTableSettings &settings);
 
+    // A table computed elsewhere (e.g. by the rank that holds the body): `raw` as matrix()
+    // returned it there.
+    TabulatedFlankCompliance(const Eigen::MatrixXd &raw, double youngs_modulus, double poisson_ratio,
+                             const meshing::GearGeometry &gear, const FlankTableSettings &settings);
+
     double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const override;
     double reference_depth_mm() const override { return settings.reference_depth_mm; }
     bool   covers_tooth(int tooth) const override;
@@ -85,6 +90,11 @@ namespace hertzgear::fem
     Eigen::MatrixXd     interpolated;
     std::unique_ptr<half_space::PatchLoadKernel> kernel; // with split_half_space
     std::vector<FlankPoint> node_points;
+
+    // Roll and face nodes, their flank points, and the loads and readings of the table.
+    void set_up_nodes(std::vector<PatchLoad<dim>> *loads, std::vector<PointReading<dim>> *readings);
+    // The interpolated table (and the half-space kernel of the split) from `table`.
+    void finish(double youngs_modulus, double poisson_ratio);
 
     // Interpolation weights of a flank point: up to 4 (node, weight) pairs; false if the tooth
     // is not in the table.

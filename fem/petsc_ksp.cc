@@ -205,6 +205,15 @@ namespace hertzgear
       return dense;
     }
 
+    void mumps_interior_solves(KSP ksp)
+    {
+      PC  pc;
+      Mat F;
+      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+      check_petsc(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+      check_petsc(MatMumpsSetIcntl(F, 26, 0), "MatMumpsSetIcntl(26)");
+    }
+
     void mumps_block_solve(KSP ksp, const std::vector<Vec> &rhs, const std::vector<Vec> &solution)
     {
       HG_REQUIRE_INPUT(rhs.size() == solution.size(), "mumps_block_solve: ", rhs.size(),

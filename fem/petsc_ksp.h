@@ -33,6 +33,10 @@ namespace hertzgear
     // The dense Schur complement of a factorisation made by create_mumps_cholesky_with_schur,
     // column-major, n x n.
     std::vector<double> schur_complement(KSP ksp, PetscInt &n);
+    // After it: solves with `ksp` are solves with the interior block A_ii alone (MUMPS ICNTL(26)
+    // = 0: the Schur rows of the right-hand side are ignored, those of the solution are 0),
+    // instead of PETSc's default full solve through a factorisation of the dense Schur complement.
+    void mumps_interior_solves(KSP ksp);
 
     // Memory [MB] this process may still use: MemAvailable of /proc/meminfo, capped by the
     // cgroup (v2 memory.max - memory.current, or v1 limit - usage) when one is set, shared

@@ -5,6 +5,7 @@
 #include "common/progress.h"
 #include "contact/mesh_cycle.h"
 #include "fem/body_fields.h"
+#include "fem/cyclic_gear_body.h"
 #include "fem/flank_compliance.h"
 #include "fem/mpi_root.h"
 #include "meshing/pair_kinematics.h"
@@ -37,6 +38,11 @@ namespace hertzgear::stiffness
     // spacing d the single-pair stiffness is within 0.2 % and the contact within 0.3 % of d/4
     // (the same study).
     constexpr double face_node_spacing_per_depth_split = 1.0;
+
+    double seconds_since(const std::chrono::steady_clock::time_point t0)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
 
     struct Body
     {
@@ -154,14 +160,166 @@ namespace hertzgear::stiffness
       }
     };
 
+    // The full gear from one tooth sector (fem::CyclicGearBody). The bodies of a pair are
+    // independent: body b is built and tabulated by rank b mod P alone (both at once on two
+    // ranks), and its table is then shared with every rank.
+    struct SharedBody : Body
+    {
+      int    owner     = 0;
+      double wall_s    = 0; // building and tabulating, on the owner
+      virtual std::size_t n_cut_face_dofs() const = 0;
+      virtual void build_and_tabulate() = 0; // on the owner
+      virtual void share()              = 0; // collective
+    };
+
+    template <int dim>
+    struct CyclicBodyModel : SharedBody
+    {
+      const fs::path                                      msh;
+      const Material                                      material;
+      const FeSettings                                   &fe;
+      const meshing::GearGeometry                        &gear;
+      fem::FlankTableSettings                             settings;
+      dealii::Triangulation<dim>                          sector; // serial, on the owner
+      std::unique_ptr<fem::CyclicGearBody<dim>>           body;   // on the owner
+      std::unique_ptr<fem::TabulatedFlankCompliance<dim>> table;
+      std::size_t                                         dofs = 0, cut_dofs = 0;
+      PhaseTimer                                          phases;
+
+      CyclicBodyModel(fs::path msh_file, const Material &m, const FeSettings &fe_settings,
+                      const meshing::GearGeometry &g, const std::vector<int> &teeth,
+                      const fem::FlankTableSettings &table_settings, const int owner_rank)
+        : msh(std::move(msh_file)), material(m), fe(fe_settings), gear(g), settings(table_settings)
+      {
+        settings.teeth = teeth;
+        owner          = owner_rank;
+      }
+
+      void build_and_tabulate() override
+      {
+        namespace tag = meshing::physical_tag;
+        const auto t0 = std::chrono::steady_clock::now();
+        fem::read_gmsh_mesh(msh.string(), sector);
+        typename fem::CyclicGearBody<dim>::Parameters p;
+        p.body.youngs_modulus      = material.youngs_modulus_MPa;
+        p.body.poisson_ratio       = material.poisson_ratio;
+        p.body.fe_degree           = fe.degree;
+        p.body.mapping_degree      = 1; // gmsh's straight-sided cells
+        p.body.clamped_boundary_id = tag::bore;
+        p.n_teeth                  = static_cast<unsigned int>(gear.n_teeth());
+        p.cut_start_id             = tag::sector_cut_start;
+        p.cut_end_id               = tag::sector_cut_end;
+        body = std::make_unique<fem::CyclicGearBody<dim>>(sector, p);
+        // The sector's one tooth (tooth 0 of its mesh) carries every load, turned into it.
+        body->set_load_boundary_ids({static_cast<dealii::types::boundary_id>(tag::drive_flank)});
+        body->run();
+        table     = std::make_unique<fem::TabulatedFlankCompliance<dim>>(*body, gear, 0, settings);
+        dofs      = body->n_dofs();
+        cut_dofs  = body->n_cut_dofs();
+        phases    = body->get_timer();
+        wall_s    = seconds_since(t0);
+        // Only the fields need the factorisation again: without them, free its memory now,
+        // before the other body of a serial run is factorised.
+        if (fe.fields_dir.empty())
+          {
+            body.reset();
+            sector.clear();
+          }
+      }
+
+      void share() override
+      {
+        if (processes::count() == 1)
+          return;
+        const auto root = static_cast<unsigned int>(owner);
+        const bool mine = processes::rank() == owner;
+        Eigen::MatrixXd raw;
+        if (mine)
+          raw = table->matrix();
+        Eigen::Index n = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, raw.rows(), root);
+        if (!mine)
+          raw.resize(n, n);
+        MPI_Bcast(raw.data(), static_cast<int>(n * n), MPI_DOUBLE, owner, MPI_COMM_WORLD);
+        if (!mine)
+          table = std::make_unique<fem::TabulatedFlankCompliance<dim>>(raw, material.youngs_modulus_MPa,
+                                                                       material.poisson_ratio, gear, settings);
+        dofs     = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, dofs, root);
+        cut_dofs = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, cut_dofs, root);
+        wall_s   = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, wall_s, root);
+        const auto entries = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, phases.phases(), root);
+        if (!mine)
+          for (const auto &[phase, seconds] : entries)
+            phases.add(phase, seconds);
+      }
+
+      const contact::FlankCompliance &compliance() const override { return *table; }
+      std::size_t                     n_dofs() const override { return dofs; }
+      const PhaseTimer &timer() const override { return phases; }
+      std::size_t       n_cut_face_dofs() const override { return cut_dofs; }
+
+      contact::FlankPoint flank_point(const contact::PositionResult &p, const std::size_t k,
+                                      const bool is_gear) const
+      {
+        return is_gear ? contact::FlankPoint{-p.cell_pair[k], p.cell_gear_roll_mm[k], p.cell_z_mm[k]} :
+                         contact::FlankPoint{p.cell_pair[k], p.cell_pinion_roll_mm[k], p.cell_z_mm[k]};
+      }
+
+      // The field of the gear's tooth-0 sector (the tooth of pair 0) under the contact of every
+      // position, written by the owner.
+      std::vector<std::string> write_fields(const std::vector<contact::PositionResult> &positions,
+                                            const bool is_gear, const double force_scale,
+                                            const fs::path &dir, const std::string &name) const override
+      {
+        std::vector<std::string> files;
+        if (body)
+          {
+            std::vector<typename fem::CyclicGearBody<dim>::SectorLoads> cases(positions.size());
+            for (std::size_t i = 0; i < positions.size(); ++i)
+              {
+                const auto &p = positions[i];
+                for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+                  if (p.cell_pressure_MPa[k] > 0)
+                    {
+                      auto       load = table->patch_load(flank_point(p, k, is_gear));
+                      const int  t    = body->tooth_of(load.centre);
+                      load.centre     = body->to_sector(load.centre, t);
+                      load.direction  = body->to_sector(load.direction, t);
+                      cases[i].loads[t].push_back(load);
+                      cases[i].forces[t].push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k] * force_scale);
+                    }
+              }
+            const auto fields = body->sector_fields(body->condense(cases), {0});
+            for (std::size_t i = 0; i < positions.size(); ++i)
+              files.push_back(fem::write_body_fields(body->sector_body(), fields[i].at(0), dir, name, i));
+          }
+        if (processes::count() > 1)
+          {
+            files.resize(positions.size());
+            for (auto &f : files)
+              f = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, f, static_cast<unsigned int>(owner));
+          }
+        return files;
+      }
+
+      std::vector<std::array<double, 3>> contact_points(const contact::PositionResult &p,
+                                                        const bool is_gear) const override
+      {
+        std::vector<std::array<double, 3>> points;
+        for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+          {
+            const auto load = table->patch_load(flank_point(p, k, is_gear));
+            std::array<double, 3> x{0, 0, 0};
+            for (unsigned int c = 0; c < dim; ++c)
+              x[c] = load.centre[c];
+            points.push_back(x);
+          }
+        return points;
+      }
+    };
+
     double roll_at_radius(const meshing::GearGeometry &g, const double r)
     {
       return std::sqrt(std::max(0.0, r * r - g.base_radius_mm() * g.base_radius_mm()));
-    }
-
-    double seconds_since(const std::chrono::steady_clock::time_point t0)
-    {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
 
     // The rows, fits and table of a mesh cycle (N, mm inside; SI and the units of the row names
@@ -244,10 +402,12 @@ namespace hertzgear::stiffness
         set_table_settings();
         fem::on_root(MPI_COMM_WORLD, [&] { fs::create_directories(fe.mesh_dir); });
         for (unsigned int b = 0; b < 2; ++b)
-          {
-            make_mesh(b);
+          make_mesh(b);
+        if (full_gear_model())
+          make_full_gear_bodies();
+        else
+          for (unsigned int b = 0; b < 2; ++b)
             make_body_and_compliance_table(b);
-          }
         solve_contact_cycle();
         solve_extra_contact_grids();
         if (!fe.fields_dir.empty())
@@ -279,6 +439,7 @@ namespace hertzgear::stiffness
       fs::path                                 fields_partial_dir;
 
       static std::string body_name(const unsigned int b) { return b == 0 ? "pinion" : "gear"; }
+      bool full_gear_model() const { return fe.body_model == "full-gear"; }
 
       void make_kinematics()
       {
@@ -295,6 +456,8 @@ namespace hertzgear::stiffness
         const int n_pairs = static_cast<int>(std::ceil(kin->contact_ratio()));
         // A body meshed as a sector has teeth 0 .. N-1 with the central one N/2; a full gear has all.
         const auto has_tooth = [&](const int z, const int relative) {
+          if (full_gear_model())
+            return true;
           const int n_sector = fe.teeth_per_sector;
           if (n_sector >= z)
             return true;
@@ -407,6 +570,47 @@ namespace hertzgear::stiffness
           }
         n_dofs_total += bodies[b]->n_dofs();
         report_body(b, s, seconds_since(t0));
+      }
+
+      // Both full gears at once: body b on rank b mod P.
+      void make_full_gear_bodies()
+      {
+        PhaseTimer::Scope           scope(timer, "FE compliance (full gears)");
+        fem::FlankTableSettings     s[2];
+        std::unique_ptr<SharedBody> shared[2];
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            s[b]              = body_table_settings(b);
+            const Material &m = b == 0 ? input.pinion_material : input.gear_material;
+            const int owner   = static_cast<int>(b % static_cast<unsigned int>(processes::count()));
+            if (dim == 2)
+              shared[b] = std::make_unique<CyclicBodyModel<2>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
+            else
+              shared[b] = std::make_unique<CyclicBodyModel<3>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
+          }
+        try
+          {
+            fem::on_every_rank(MPI_COMM_WORLD, [&] {
+              for (unsigned int b = 0; b < 2; ++b)
+                if (shared[b]->owner == processes::rank())
+                  shared[b]->build_and_tabulate();
+            });
+          }
+        catch (const fem::PatchOffMeshError &e)
+          {
+            throw ParameterError("level", too_coarse_message(0, s[0], e.what()));
+          }
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            shared[b]->share();
+            const double      wall = shared[b]->wall_s;
+            const std::size_t cut = shared[b]->n_cut_face_dofs();
+            bodies[b]             = std::move(shared[b]);
+            n_dofs_total += bodies[b]->n_dofs();
+            report_body(b, s[b], wall);
+            body_notes[body_name(b)]["cut_face_dofs"] = cut;
+            body_notes[body_name(b)]["rank"]          = b % static_cast<unsigned int>(processes::count());
+          }
       }
 
       // The user did not ask for patches; say which settings make the mesh too coarse.
@@ -586,6 +790,10 @@ namespace hertzgear::stiffness
         m["dimension"]       = dim;
         m["fe_level"]        = fe.level;
         m["fe_degree"]       = fe.degree;
+        m["body_model"]      = fe.body_model == "full-gear" ? "full gear (cyclic, one tooth sector)" :
+                               fe.teeth_per_sector >= std::min(input.pair.pinion.teeth, input.pair.gear.teeth) ?
+                                                        "full gear (meshed whole)" :
+                                                        msg(fe.teeth_per_sector, "-tooth sector, cuts clamped");
         m["linear_solver"]   = fe.linear_solver;
         if (fe.linear_solver != "direct")
           m["linear_solver_tolerance"] = fe.linear_solver_tolerance;
@@ -619,6 +827,14 @@ namespace hertzgear::stiffness
                                                                  "analysis needs a positive torque"));
         if (fe.dimension != 3 && (input.pair.pinion.crowning_mm != 0 || input.pair.gear.crowning_mm != 0))
           throw ParameterError("dimension", msg(fe.dimension, " cannot represent lead crowning; use 3"));
+        if (fe.body_model == "full-gear" && fe.linear_solver != "direct")
+          throw ParameterError("linear_solver",
+                               msg(fe.linear_solver, ": the full-gear body model ({body_model}) takes "
+                                                     "its cut-face Schur complement from the direct "
+                                                     "solver's factorisation; use direct, or "
+                                                     "{body_model} = sector"));
+        if (fe.body_model != "full-gear" && fe.body_model != "sector")
+          throw ParameterError("body_model", msg(fe.body_model, ": full-gear or sector"));
         const double module_mm = input.pair.pinion.module_mm;
         const double depth     = fe_reference_depth_mm(fe, module_mm);
         if (!(depth <= 0.5 * module_mm))
@@ -646,7 +862,7 @@ namespace hertzgear::stiffness
   {
     meshing::MeshSettings s;
     s.dimension         = fe.dimension;
-    s.teeth_per_sector  = fe.teeth_per_sector;
+    s.teeth_per_sector  = fe.body_model == "full-gear" ? 1 : fe.teeth_per_sector;
     s.face_width_layers = fe.face_width_layers;
     s.refinement_level  = fe.level;
     return s;

@@ -31,7 +31,11 @@ namespace hertzgear::stiffness
     int         dimension                  = 3; // 2: plane strain, 3: solid
     int         level                      = 1; // refinement level of the contact band
     int         degree                     = 1; // Q1 or Q2
-    int         teeth_per_sector           = 5; // teeth of a body mesh (>= the gear's teeth: full gear)
+    // full-gear: each body is the full gear clamped at its bore, from one tooth sector with
+    // cyclic symmetry (fem::CyclicGearBody); sector: a meshed sector of teeth_per_sector teeth
+    // clamped at its cuts and bore (>= the gear's teeth: the full gear meshed as one body).
+    std::string body_model                 = "full-gear";
+    int         teeth_per_sector           = 5;
     int         face_width_layers          = 8; // 3D: hexahedral layers at level 0
     int         contact_grid_profile_cells = 24;
     int         contact_grid_face_cells    = 16;

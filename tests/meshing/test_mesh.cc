@@ -85,7 +85,8 @@ namespace
   nlohmann::json mesh(const std::string &scene, const std::string &extra, const fs::path &out)
   {
     const auto r = run_hertzgear("mesh " + scene_path(scene) + " --out " + out.string() +
-                                 " --set 'Stiffness/fe_level=0' --set 'Mesh/teeth_per_sector=3'" + extra);
+                                 " --set 'Stiffness/fe_level=0' --set Mesh/body_model=sector"
+                                 " --set 'Mesh/teeth_per_sector=3'" + extra);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return nlohmann::json::parse(slurp(out / "mesh_quality.json"));
   }
@@ -160,5 +161,75 @@ TEST(BodyMesh, CrownedThreeDimensionalMeshHasExactCrowningAtFlankNodes)
             }
       EXPECT_GT(n_checked, 100u);
       EXPECT_LT(max_err, 1e-9) << body[i] << ": crowning error at the flank nodes";
+    }
+}
+
+// Requirement: the body of the default (full-gear) model is one tooth sector whose end cut is its
+// start cut turned by one pitch, vertex for vertex (gmsh periodic curves; the 3D faces are
+// extruded from them), which is what the cyclic model ties. Tolerance 1e-9 of the radius: the
+// periodic copy is an exact affine map of gmsh's nodes, off by round-off only.
+TEST(BodyMesh, FullGearModelMeshesOneToothWithPeriodicCutFaces)
+{
+  for (const int dim : {2, 3})
+    {
+      const fs::path out = fresh_temp_dir("mesh_periodic");
+      const auto     r   = run_hertzgear("mesh " + scene_path("paper_crowned.prm") + " --out " + out.string() +
+                                   " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=2"
+                                   " --set Stiffness/fe_dimension=" + std::to_string(dim) +
+                                   (dim == 2 ? " --set 'Gear pair/Pinion/crowning_um=0'"
+                                               " --set 'Gear pair/Gear/crowning_um=0'" : ""));
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      for (const auto &[body, z] : {std::pair<std::string, int>{"pinion", 23}, {"gear", 34}})
+        {
+          std::vector<std::vector<double>> start, end; // vertices of the cut faces
+          const auto collect = [&](auto &tria) {
+            for (const auto &face : tria.active_face_iterators())
+              if (face->at_boundary() && (face->boundary_id() == 11 || face->boundary_id() == 12))
+                for (unsigned int v = 0; v < face->n_vertices(); ++v)
+                  {
+                    std::vector<double> x;
+                    for (unsigned int d = 0; d < face->vertex(v).dimension; ++d)
+                      x.push_back(face->vertex(v)[d]);
+                    (face->boundary_id() == 11 ? start : end).push_back(x);
+                  }
+            for (const auto &face : tria.active_face_iterators())
+              if (face->at_boundary() && face->boundary_id() >= 100 && face->boundary_id() < 200)
+                {
+                  EXPECT_EQ(face->boundary_id(), 100u) << body << ": one tooth, tooth 0";
+                }
+          };
+          if (dim == 2)
+            {
+              dealii::Triangulation<2> tria;
+              read(tria, out / (body + ".msh"));
+              collect(tria);
+            }
+          else
+            {
+              dealii::Triangulation<3> tria;
+              read(tria, out / (body + ".msh"));
+              collect(tria);
+            }
+          ASSERT_FALSE(start.empty());
+          const double angle = 2 * pi / z, c = std::cos(angle), s = std::sin(angle);
+          double       worst = 0, radius = 0;
+          for (const auto &x : start)
+            {
+              std::vector<double> y = x;
+              y[0] = c * x[0] - s * x[1];
+              y[1] = s * x[0] + c * x[1];
+              double best = 1e300;
+              for (const auto &e : end)
+                {
+                  double d = 0;
+                  for (std::size_t k = 0; k < e.size(); ++k)
+                    d += (e[k] - y[k]) * (e[k] - y[k]);
+                  best = std::min(best, std::sqrt(d));
+                }
+              worst  = std::max(worst, best);
+              radius = std::max(radius, std::hypot(x[0], x[1]));
+            }
+          EXPECT_LT(worst, 1e-9 * radius) << dim << "D " << body;
+        }
     }
 }
