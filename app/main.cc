@@ -15,6 +15,8 @@
 #ifdef HERTZGEAR_WITH_FEM
 #  include <deal.II/base/exceptions.h>
 #  include <deal.II/base/mpi.h>
+
+#  include "fem/petsc_ksp.h"
 #endif
 
 #include <iostream>
@@ -27,6 +29,8 @@ int main(int argc, char **argv)
   // which is not thread-safe and aborted a resolved-contact run when they were allowed.
 #ifdef HERTZGEAR_WITH_FEM
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  // Ranks on one node share its cores: BLAS threads per rank = cores / ranks.
+  fem::share_blas_threads_between_ranks(MPI_COMM_WORLD);
 #endif
   CLI::App app{"hertzgear: finite-element contact stiffness and gear-pair dynamics", "hertzgear"};
   app.set_version_flag("--version",

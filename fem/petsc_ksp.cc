@@ -5,6 +5,9 @@
 #include <petscmat.h>
 
 #include <algorithm>
+#include <thread>
+
+#include <dlfcn.h>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -78,6 +81,27 @@ namespace hertzgear
       long smallest = share;
       MPI_Allreduce(&share, &smallest, 1, MPI_LONG, MPI_MIN, comm);
       return smallest;
+    }
+
+    int share_blas_threads_between_ranks(MPI_Comm comm)
+    {
+      MPI_Comm node;
+      int      ranks_on_node = 1;
+      if (MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) == MPI_SUCCESS)
+        {
+          MPI_Comm_size(node, &ranks_on_node);
+          MPI_Comm_free(&node);
+        }
+      if (ranks_on_node <= 1)
+        return 0;
+      using SetThreads = void (*)(int);
+      const auto set   = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+      if (set == nullptr)
+        return 0;
+      const int cores   = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      const int threads = std::max(1, cores / ranks_on_node);
+      set(threads);
+      return threads;
     }
 
     namespace

@@ -43,6 +43,12 @@ namespace hertzgear
     // equally by the ranks of `comm` on this node. At least 1.
     long available_memory_MB_per_rank(MPI_Comm comm);
 
+    // The cores of a node shared between the ranks on it: when several ranks of `comm` share a
+    // node, each lets OpenBLAS (MUMPS's and LAPACK's BLAS) use cores / ranks threads, so that
+    // `mpirun -np 2` on 2 cores runs 2 threads in all, not 4. One rank keeps OpenBLAS's default
+    // (every core). Nothing happens with another BLAS. Returns the threads per rank set, 0 if none.
+    int share_blas_threads_between_ranks(MPI_Comm comm);
+
     // Solves A X = B for several right-hand sides at once with the factors held by `ksp` (made
     // by create_mumps_lu or create_mumps_cholesky): the columns go to MUMPS as one dense block, so
     // the factors are read once per block instead of once per right-hand side (BLAS 3 instead of
