@@ -44,6 +44,31 @@ namespace hertzgear::stiffness
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
 
+    // Contact-grid cell k of a position on one body's flank (the gear's pair j is its tooth -j).
+    contact::FlankPoint flank_point(const contact::PositionResult &p, const std::size_t k,
+                                    const bool is_gear)
+    {
+      return is_gear ? contact::FlankPoint{-p.cell_pair[k], p.cell_gear_roll_mm[k], p.cell_z_mm[k]} :
+                       contact::FlankPoint{p.cell_pair[k], p.cell_pinion_roll_mm[k], p.cell_z_mm[k]};
+    }
+
+    // The contact-grid cell centres of a position on a body's flank, in the body's frame.
+    template <int dim>
+    std::vector<std::array<double, 3>> contact_points_on(const fem::TabulatedFlankCompliance<dim> &table,
+                                                         const contact::PositionResult &p, const bool is_gear)
+    {
+      std::vector<std::array<double, 3>> points;
+      for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+        {
+          const auto            load = table.patch_load(flank_point(p, k, is_gear));
+          std::array<double, 3> x{0, 0, 0};
+          for (unsigned int c = 0; c < dim; ++c)
+            x[c] = load.centre[c];
+          points.push_back(x);
+        }
+      return points;
+    }
+
     struct Body
     {
       virtual ~Body() = default;
@@ -112,13 +137,6 @@ namespace hertzgear::stiffness
       const contact::FlankCompliance &compliance() const override { return *table; }
       std::size_t                     n_dofs() const override { return body->n_dofs(); }
 
-      contact::FlankPoint flank_point(const contact::PositionResult &p, const std::size_t k,
-                                      const bool is_gear) const
-      {
-        return is_gear ? contact::FlankPoint{-p.cell_pair[k], p.cell_gear_roll_mm[k], p.cell_z_mm[k]} :
-                         contact::FlankPoint{p.cell_pair[k], p.cell_pinion_roll_mm[k], p.cell_z_mm[k]};
-      }
-
       std::vector<std::string> write_fields(const std::vector<contact::PositionResult> &positions,
                                             const bool is_gear, const double force_scale,
                                             const fs::path &dir, const std::string &name) const override
@@ -147,16 +165,7 @@ namespace hertzgear::stiffness
       std::vector<std::array<double, 3>> contact_points(const contact::PositionResult &p,
                                                         const bool is_gear) const override
       {
-        std::vector<std::array<double, 3>> points;
-        for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
-          {
-            const auto load = table->patch_load(flank_point(p, k, is_gear));
-            std::array<double, 3> x{0, 0, 0};
-            for (unsigned int c = 0; c < dim; ++c)
-              x[c] = load.centre[c];
-            points.push_back(x);
-          }
-        return points;
+        return contact_points_on(*table, p, is_gear);
       }
     };
 
@@ -257,13 +266,6 @@ namespace hertzgear::stiffness
       const PhaseTimer &timer() const override { return phases; }
       std::size_t       n_cut_face_dofs() const override { return cut_dofs; }
 
-      contact::FlankPoint flank_point(const contact::PositionResult &p, const std::size_t k,
-                                      const bool is_gear) const
-      {
-        return is_gear ? contact::FlankPoint{-p.cell_pair[k], p.cell_gear_roll_mm[k], p.cell_z_mm[k]} :
-                         contact::FlankPoint{p.cell_pair[k], p.cell_pinion_roll_mm[k], p.cell_z_mm[k]};
-      }
-
       // The field of the gear's tooth-0 sector (the tooth of pair 0) under the contact of every
       // position, written by the owner.
       std::vector<std::string> write_fields(const std::vector<contact::PositionResult> &positions,
@@ -304,16 +306,7 @@ namespace hertzgear::stiffness
       std::vector<std::array<double, 3>> contact_points(const contact::PositionResult &p,
                                                         const bool is_gear) const override
       {
-        std::vector<std::array<double, 3>> points;
-        for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
-          {
-            const auto load = table->patch_load(flank_point(p, k, is_gear));
-            std::array<double, 3> x{0, 0, 0};
-            for (unsigned int c = 0; c < dim; ++c)
-              x[c] = load.centre[c];
-            points.push_back(x);
-          }
-        return points;
+        return contact_points_on(*table, p, is_gear);
       }
     };
 
