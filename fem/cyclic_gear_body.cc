@@ -260,6 +260,7 @@ namespace hertzgear::fem
   template <int dim>
   std::vector<double> CyclicGearBody<dim>::harmonic_norms(const std::map<int, Eigen::MatrixXd> &q) const
   {
+    HG_REQUIRE_INPUT(!q.empty(), "harmonic_norms: no condensed load");
     const int           N = static_cast<int>(parameters.n_teeth);
     std::vector<double> norms;
     for (int k = 0; k <= N / 2; ++k)
@@ -277,6 +278,7 @@ namespace hertzgear::fem
   CyclicGearBody<dim>::solve_interface(const std::map<int, Eigen::MatrixXd> &q, const int s_min,
                                        const int s_max, const int only_harmonic) const
   {
+    HG_REQUIRE_INPUT(!q.empty(), "solve_interface: no condensed load");
     PhaseTimer::Scope t(timer, "harmonics");
     const int          N = static_cast<int>(parameters.n_teeth);
     const Eigen::Index n = D.rows();

@@ -13,6 +13,7 @@
 #include "meshing/gear_body_mesher.h"
 #include "meshing/pair_kinematics.h"
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
@@ -267,4 +268,34 @@ TEST(CyclicGearBody, RefusesCutFacesThatDoNotMatch)
       EXPECT_NE(std::string(e.what()).find("cut faces of the sector mesh do not match"), std::string::npos)
         << e.what();
     }
+}
+
+// Requirement: the cyclic harmonics may be shared between processes (each factorises the
+// harmonics k = rank, rank + P, ... and the cut displacements are summed): the table is the one
+// process computes alone. Both contenders run the same LAPACK kernels on the same matrices; only
+// the order of the final sum differs, so 1e-12 relative. Run by ctest under mpirun -np 2
+// (fem.cyclic_gear_body_mpi2).
+TEST(CyclicGearBodyMpi, HarmonicsSharedByTwoRanksGiveTheTableOfOne)
+{
+  const meshing::PairKinematics kin(small_pair(20.0));
+  const unsigned int            rank = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+  const auto msh = sector_mesh(kin, 2, "shared_r" + std::to_string(rank));
+  dealii::Triangulation<2> sector; // serial, on every rank
+  fem::read_gmsh_mesh(msh.string(), sector);
+  std::filesystem::remove(msh);
+  const auto s = table_settings(kin.pinion(), 2);
+  Eigen::MatrixXd tables[2];
+  for (const int shared : {0, 1})
+    {
+      fem::CyclicGearBody<2>::Parameters cp;
+      cp.body                  = body_parameters<2>();
+      cp.n_teeth               = static_cast<unsigned int>(kin.pinion().n_teeth());
+      cp.harmonic_communicator = shared ? MPI_COMM_WORLD : MPI_COMM_SELF;
+      fem::CyclicGearBody<2> cyclic(sector, cp);
+      cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
+      cyclic.run();
+      tables[shared] = fem::TabulatedFlankCompliance<2>(cyclic, kin.pinion(), 0, s).matrix();
+    }
+  const double difference = (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
+  EXPECT_LT(difference, 1e-12) << "rank " << rank;
 }
