@@ -581,18 +581,18 @@ namespace hertzgear::stiffness
             else
               shared[b] = std::make_unique<CyclicBodyModel<3>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
           }
-        try
-          {
-            fem::on_every_rank(MPI_COMM_WORLD, [&] {
-              for (unsigned int b = 0; b < 2; ++b)
-                if (shared[b]->owner == processes::rank())
+        fem::on_every_rank(MPI_COMM_WORLD, [&] {
+          for (unsigned int b = 0; b < 2; ++b)
+            if (shared[b]->owner == processes::rank())
+              try
+                {
                   shared[b]->build_and_tabulate();
-            });
-          }
-        catch (const fem::PatchOffMeshError &e)
-          {
-            throw ParameterError("level", too_coarse_message(0, s[0], e.what()));
-          }
+                }
+              catch (const fem::PatchOffMeshError &e)
+                {
+                  throw ParameterError("level", too_coarse_message(b, s[b], e.what()));
+                }
+        });
         for (unsigned int b = 0; b < 2; ++b)
           {
             shared[b]->share();
