@@ -6,6 +6,7 @@
 #include "contact/hertz.h"
 #include "contact/mesh_cycle.h"
 #include "meshing/pair_kinematics.h"
+#include "tests/support/spur_pair.h"
 
 #include <gtest/gtest.h>
 
@@ -18,21 +19,7 @@ namespace
 {
   meshing::PairParameters paper_pair(double crowning_mm = 0, int z1 = 23, int z2 = 34)
   {
-    meshing::PairParameters p;
-    for (auto *g : {&p.pinion, &p.gear})
-      {
-        g->module_mm          = 3.0;
-        g->pressure_angle_rad = 20.0 * M_PI / 180.0;
-        g->face_width_mm      = 20.0;
-        g->crowning_mm        = crowning_mm;
-      }
-    p.pinion.teeth          = z1;
-    p.gear.teeth            = z2;
-    p.pinion.bore_radius_mm = 15.0;
-    p.gear.bore_radius_mm   = 20.0;
-    p.pinion.name           = "pinion";
-    p.backlash_loa_mm       = 0.1172;
-    return p;
+    return hertzgear::testing::spur_pair({z1, z2, 20.0, crowning_mm});
   }
 
   const Material steel{206000.0, 0.3};

@@ -12,6 +12,7 @@
 #include "fem/flank_compliance.h"
 #include "meshing/gear_body_mesher.h"
 #include "meshing/pair_kinematics.h"
+#include "tests/support/spur_pair.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_generator.h>
@@ -33,23 +34,10 @@ namespace
 {
   constexpr double E_MPa = 206000.0, nu = 0.3;
 
+  // 18/30 teeth, 12/20 mm bores: a small pair, quick to mesh whole.
   meshing::PairParameters small_pair(const double face_width_mm)
   {
-    meshing::PairParameters p;
-    for (auto *g : {&p.pinion, &p.gear})
-      {
-        g->module_mm          = 3.0;
-        g->pressure_angle_rad = 20.0 * M_PI / 180.0;
-        g->face_width_mm      = face_width_mm;
-      }
-    p.pinion.teeth          = 18;
-    p.gear.teeth            = 30;
-    p.pinion.bore_radius_mm = 12.0;
-    p.gear.bore_radius_mm   = 20.0;
-    p.pinion.name           = "pinion";
-    p.gear.name             = "gear";
-    p.backlash_loa_mm       = 0.1;
-    return p;
+    return hertzgear::testing::spur_pair({18, 30, face_width_mm, 0.0, 12.0, 20.0, 0.1});
   }
 
   // A one-tooth sector of the pinion (coarse), written by the mesher.
@@ -81,6 +69,21 @@ namespace
     p.mapping_degree      = 1;
     p.clamped_boundary_id = meshing::physical_tag::bore;
     return p;
+  }
+
+  // The full gear of n_teeth teeth from `sector`, loadable on its tooth's drive flank; not yet run.
+  template <int dim>
+  std::unique_ptr<fem::CyclicGearBody<dim>> cyclic_body(const dealii::Triangulation<dim> &sector,
+                                                        const int n_teeth,
+                                                        const MPI_Comm harmonics = MPI_COMM_SELF)
+  {
+    typename fem::CyclicGearBody<dim>::Parameters cp;
+    cp.body                  = body_parameters<dim>();
+    cp.n_teeth               = static_cast<unsigned int>(n_teeth);
+    cp.harmonic_communicator = harmonics;
+    auto body = std::make_unique<fem::CyclicGearBody<dim>>(sector, cp);
+    body->set_load_boundary_ids({meshing::physical_tag::drive_flank});
+    return body;
   }
 
   template <int dim>
@@ -150,11 +153,8 @@ namespace
     fem::read_gmsh_mesh(msh.string(), sector);
     std::filesystem::remove(msh);
 
-    typename fem::CyclicGearBody<dim>::Parameters cp;
-    cp.body    = body_parameters<dim>();
-    cp.n_teeth = static_cast<unsigned int>(kin.pinion().n_teeth());
-    fem::CyclicGearBody<dim> cyclic(sector, cp);
-    cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
+    const auto cyclic_ptr = cyclic_body(sector, kin.pinion().n_teeth());
+    auto      &cyclic     = *cyclic_ptr;
     cyclic.run();
 
     dealii::Triangulation<dim> full;
@@ -203,17 +203,14 @@ TEST(CyclicGearBody, APureHarmonicLoadExcitesOnlyThatHarmonic)
   dealii::Triangulation<2>      sector;
   fem::read_gmsh_mesh(msh.string(), sector);
   std::filesystem::remove(msh);
-  fem::CyclicGearBody<2>::Parameters cp;
-  cp.body    = body_parameters<2>();
-  cp.n_teeth = static_cast<unsigned int>(kin.pinion().n_teeth());
-  fem::CyclicGearBody<2> cyclic(sector, cp);
-  cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
+  const auto cyclic_ptr = cyclic_body(sector, kin.pinion().n_teeth());
+  auto      &cyclic     = *cyclic_ptr;
   cyclic.run();
 
   const auto s = table_settings(kin.pinion(), 2);
   const fem::TabulatedFlankCompliance<2> table(cyclic, kin.pinion(), 0, s);
   const auto load = table.patch_load({0, 0.5 * (s.roll_min_mm + s.roll_max_mm), 0.0});
-  const int  N    = static_cast<int>(cp.n_teeth);
+  const int  N    = kin.pinion().n_teeth();
   for (const int k0 : {0, 1, 4, N / 2})
     {
       fem::CyclicGearBody<2>::SectorLoads pattern;
@@ -254,13 +251,10 @@ TEST(CyclicGearBody, RefusesCutFacesThatDoNotMatch)
   dealii::Triangulation<2>      sector;
   fem::read_gmsh_mesh(msh.string(), sector);
   std::filesystem::remove(msh);
-  fem::CyclicGearBody<2>::Parameters cp;
-  cp.body    = body_parameters<2>();
-  cp.n_teeth = static_cast<unsigned int>(kin.pinion().n_teeth()) + 1;
-  fem::CyclicGearBody<2> cyclic(sector, cp);
+  const auto cyclic = cyclic_body(sector, kin.pinion().n_teeth() + 1);
   try
     {
-      cyclic.run();
+      cyclic->run();
       FAIL() << "a sector of the wrong angle was accepted";
     }
   catch (const InputError &e)
@@ -287,14 +281,9 @@ TEST(CyclicGearBodyMpi, HarmonicsSharedByTwoRanksGiveTheTableOfOne)
   Eigen::MatrixXd tables[2];
   for (const int shared : {0, 1})
     {
-      fem::CyclicGearBody<2>::Parameters cp;
-      cp.body                  = body_parameters<2>();
-      cp.n_teeth               = static_cast<unsigned int>(kin.pinion().n_teeth());
-      cp.harmonic_communicator = shared ? MPI_COMM_WORLD : MPI_COMM_SELF;
-      fem::CyclicGearBody<2> cyclic(sector, cp);
-      cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
-      cyclic.run();
-      tables[shared] = fem::TabulatedFlankCompliance<2>(cyclic, kin.pinion(), 0, s).matrix();
+      const auto cyclic = cyclic_body(sector, kin.pinion().n_teeth(), shared ? MPI_COMM_WORLD : MPI_COMM_SELF);
+      cyclic->run();
+      tables[shared] = fem::TabulatedFlankCompliance<2>(*cyclic, kin.pinion(), 0, s).matrix();
     }
   const double difference = (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
   EXPECT_LT(difference, 1e-12) << "rank " << rank;

@@ -9,6 +9,7 @@
 #include "fem/flank_compliance.h"
 #include "meshing/gear_body_mesher.h"
 #include "meshing/pair_kinematics.h"
+#include "tests/support/spur_pair.h"
 
 #include <deal.II/grid/tria.h>
 
@@ -26,24 +27,7 @@ using namespace hertzgear;
 
 namespace
 {
-  meshing::PairParameters paper_pair()
-  {
-    meshing::PairParameters p;
-    for (auto *g : {&p.pinion, &p.gear})
-      {
-        g->module_mm          = 3.0;
-        g->pressure_angle_rad = 20.0 * M_PI / 180.0;
-        g->face_width_mm      = 20.0;
-      }
-    p.pinion.teeth          = 23;
-    p.gear.teeth            = 34;
-    p.pinion.bore_radius_mm = 15.0;
-    p.gear.bore_radius_mm   = 20.0;
-    p.pinion.name           = "pinion";
-    p.gear.name             = "gear";
-    p.backlash_loa_mm       = 0.1172;
-    return p;
-  }
+  meshing::PairParameters paper_pair() { return hertzgear::testing::spur_pair(); }
 
   struct Sample
   {
