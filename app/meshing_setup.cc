@@ -22,6 +22,12 @@ namespace hertzgear
     p.tip_relief_length_mm          = g.tip_relief_length_mm;
     p.tip_relief_shape = g.tip_relief_shape == "parabolic" ? meshing::TipReliefShape::parabolic :
                                                              meshing::TipReliefShape::linear;
+    p.helix_slope_deviation_mm  = g.helix_slope_deviation_um * 1e-3;
+    p.lead_end_relief_mm        = g.lead_end_relief_um * 1e-3;
+    p.lead_end_relief_length_mm = g.lead_end_relief_length_mm;
+    p.profile_crowning_mm       = g.profile_crowning_um * 1e-3;
+    p.root_relief_mm            = g.root_relief_um * 1e-3;
+    p.root_relief_length_mm     = g.root_relief_length_mm;
     p.name = name;
     return p;
   }
@@ -33,6 +39,9 @@ namespace hertzgear
     p.gear               = gear_parameters(scene.gear, "gear");
     p.center_distance_mm = scene.operating.center_distance_mm;
     p.backlash_loa_mm    = scene.operating.center_distance_mm > 0 ? 0 : scene.operating.backlash_mm;
+    p.mesh_misalignment_mm = scene.operating.mesh_misalignment_um * 1e-3;
+    p.axis_inclination_mm  = scene.operating.axis_inclination_um * 1e-3;
+    p.axis_deviation_mm    = scene.operating.axis_deviation_um * 1e-3;
     return p;
   }
 

@@ -306,6 +306,9 @@ namespace hertzgear
         if (stage == "stiffness")
           {
             artifacts = {"stiffness.csv", "stiffness.json"};
+            for (const auto *file : {"stiffness_map.csv", "contact_pattern.csv"})
+              if (fs::exists(out / file))
+                artifacts.push_back(file);
             for (const auto *folder : {"mesh", "fields"})
               for (const auto &f : files_below(out, folder))
                 artifacts.push_back(f);

@@ -157,6 +157,23 @@ namespace hertzgear
             "Length of the tip relief along the line of action, measured from the tip [mm].");
       s.add("tip_relief_shape", g.tip_relief_shape, Patterns::Selection("linear|parabolic"),
             "Shape of the tip relief along the roll length: linear or parabolic.");
+      s.add("helix_slope_deviation_um", g.helix_slope_deviation_um, Patterns::Double(-1000.0, 1000.0),
+            "Helix slope deviation f_Hbeta [um] over the face width (ISO 1328-1): material removed "
+            "f_Hbeta z / b, signed (> 0 removes material at the +z face end); 0 = none.");
+      s.add("lead_end_relief_um", g.lead_end_relief_um, Patterns::Double(0.0, 1000.0),
+            "Lead end relief C_b [um] at both face ends, linear over lead_end_relief_length_mm "
+            "from each end; 0 = none.");
+      s.add("lead_end_relief_length_mm", g.lead_end_relief_length_mm, Patterns::Double(0.0, 1000.0),
+            "Length of the lead end relief from each face end [mm]; at most half the face width.");
+      s.add("profile_crowning_um", g.profile_crowning_um, Patterns::Double(0.0, 1000.0),
+            "Profile crowning (barrelling) C_alpha [um]: parabolic material removal over the active "
+            "profile, C_alpha at both of its ends and 0 in its middle; 0 = none.");
+      s.add("root_relief_um", g.root_relief_um, Patterns::Double(0.0, 1000.0),
+            "Root relief C_f [um] at the start of the active profile, linear over "
+            "root_relief_length_mm; 0 = none.");
+      s.add("root_relief_length_mm", g.root_relief_length_mm, Patterns::Double(0.0, 100.0),
+            "Length of the root relief along the line of action from the start of the active "
+            "profile [mm]; with the tip relief at most the active profile.");
       s.leave();
     }
 
@@ -194,6 +211,16 @@ namespace hertzgear
       s.add("backlash_mm", o.backlash_mm, Patterns::Double(0.0, 10.0),
             "Total backlash along the line of action 2 b_c [mm] (the dynamics' half backlash b_c is "
             "half of it), made by thinning both gears equally. Used when center_distance_mm = 0.");
+      s.add("mesh_misalignment_um", o.mesh_misalignment_um, Patterns::Double(-1000.0, 1000.0),
+            "Mesh misalignment f_ma [um]: the shafts' misalignment along the line of action over "
+            "the face width (ISO 6336-1), signed (> 0 opens the +z face end); it adds f_ma z / b "
+            "to the unloaded gap. 0 = aligned.");
+      s.add("axis_inclination_um", o.axis_inclination_um, Patterns::Double(-1000.0, 1000.0),
+            "Inclination of the axes f_Sigma_delta [um] over the face width, in their common plane "
+            "(ISO/TR 10064-3); it acts as f_Sigma_delta sin(alpha_w) along the line of action.");
+      s.add("axis_deviation_um", o.axis_deviation_um, Patterns::Double(-1000.0, 1000.0),
+            "Deviation of the axes f_Sigma_beta [um] over the face width, across their common plane "
+            "(ISO/TR 10064-3); it acts as f_Sigma_beta cos(alpha_w) along the line of action.");
       s.leave();
     }
 
@@ -319,6 +346,23 @@ namespace hertzgear
         auto &f                      = st.fourier;
         f.k_rest_mean_N_per_m        = 4.17e8;
         f.k_hertz_mean_N_per_m_pow_n = 0.0;
+        s.enter("Map", "Load and design map of the FE contact analysis (source = fem): further "
+                       "contact cycles on the same FE bodies, written to stiffness_map.csv and "
+                       "stiffness.json (docs/user-guide.md, \"Torque maps and misalignment\").");
+        s.add("torque_percent", st.map_torque_percent,
+              Patterns::List(Patterns::Double(-1.0e6, 1.0e4), 0, 64, ","),
+              "Torques of the map [% of Operating/torque_Nm], comma separated, each > 0 (for "
+              "example 10, 25, 50, 100, 150, 200); empty = no torque map.");
+        s.add("crowning_um", st.map_crowning_um, Patterns::List(Patterns::Double(0.0, 1000.0), 0, 16, ","),
+              "Lead crowning variants beta [um] of the map, each applied to both gears (replacing "
+              "their crowning_um), each with every torque of torque_percent (or the scene's "
+              "torque); empty = the scene's crowning only.");
+        s.add("mesh_misalignment_um", st.map_mesh_misalignment_um,
+              Patterns::List(Patterns::Double(-1000.0, 1000.0), 0, 64, ","),
+              "Mesh misalignment variants f_ma [um] of the map (replacing "
+              "Operating/mesh_misalignment_um), at the scene's torque, each with every crowning "
+              "variant; empty = none.");
+        s.leave();
         s.enter("Fourier", "Stiffness given as Fourier coefficients (source = fourier): "
                            "k(t) = mean + sum_j a_j cos(j omega_m t - phi_j).");
         s.add("k_rest_mean_N_per_m", f.k_rest_mean_N_per_m, Patterns::Double(0.0, 1.0e13),

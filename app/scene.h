@@ -26,6 +26,12 @@ namespace hertzgear
     double      tip_relief_um                 = 0; // C_a at the tip
     double      tip_relief_length_mm          = 0; // along the line of action, from the tip
     std::string tip_relief_shape;                  // linear | parabolic
+    double      helix_slope_deviation_um      = 0; // f_Hb over the face width, signed
+    double      lead_end_relief_um            = 0; // C_b at both face ends
+    double      lead_end_relief_length_mm     = 0; // L_b from each face end
+    double      profile_crowning_um           = 0; // C_a (barrelling) over the active profile
+    double      root_relief_um                = 0; // C_f at the start of the active profile
+    double      root_relief_length_mm         = 0; // L_f along the line of action
   };
 
   struct OperatingScene
@@ -34,6 +40,9 @@ namespace hertzgear
     double speed_rpm          = 0; // of the pinion
     double center_distance_mm = 0; // 0: tight-mesh distance, backlash from thinned teeth
     double backlash_mm        = 0; // total, along the line of action
+    double mesh_misalignment_um = 0; // f_ma along the line of action over the face width
+    double axis_inclination_um  = 0; // f_Sd over the face width
+    double axis_deviation_um    = 0; // f_Sb over the face width
   };
 
   struct EffectsScene
@@ -78,6 +87,10 @@ namespace hertzgear
     std::string           linear_solver; // direct | amg-cg
     double                linear_solver_tolerance = 0;
     FourierScene          fourier;
+    // Load and design map of the FE source: extra contact cycles on the same bodies.
+    std::vector<double> map_torque_percent;        // of Operating/torque_Nm
+    std::vector<double> map_crowning_um;           // pinion lead crowning variants
+    std::vector<double> map_mesh_misalignment_um;  // mesh misalignment variants
   };
 
   struct MeshScene

@@ -12,6 +12,12 @@ namespace hertzgear
     {
       static const std::map<std::string, std::string> keys = {
         {"torque_Nm", "Operating/torque_Nm"},
+        {"mesh_misalignment_mm", "Operating/mesh_misalignment_um"},
+        {"axis_inclination_mm", "Operating/axis_inclination_um"},
+        {"axis_deviation_mm", "Operating/axis_deviation_um"},
+        {"torque_map_percent", "Stiffness/Map/torque_percent"},
+        {"crowning_map_mm", "Stiffness/Map/crowning_um"},
+        {"misalignment_map_mm", "Stiffness/Map/mesh_misalignment_um"},
         {"positions_per_cycle", "Stiffness/positions_per_cycle"},
         {"harmonics", "Stiffness/harmonics"},
         {"hertz_exponent", "Stiffness/hertz_exponent"},

@@ -72,6 +72,11 @@ namespace hertzgear
     fe.table_half_space_split     = st.table_half_space_split;
     fe.linear_solver              = st.linear_solver;
     fe.linear_solver_tolerance    = st.linear_solver_tolerance;
+    in.torque_map_percent         = st.map_torque_percent;
+    for (const double beta : st.map_crowning_um)
+      in.crowning_map_mm.push_back(beta * 1e-3);
+    for (const double f : st.map_mesh_misalignment_um)
+      in.misalignment_map_mm.push_back(f * 1e-3);
     return in;
   }
 
@@ -82,7 +87,12 @@ namespace hertzgear
 
   void check_stiffness_input(const Scene &scene)
   {
-    stiffness_source(scene).check(stiffness_input(scene));
+    const auto &source = stiffness_source(scene);
+    const auto  input  = stiffness_input(scene);
+    if (input.has_map() && !source.uses_fe())
+      throw ParameterError("Stiffness/Map", msg("a load and design map needs the contact analysis of "
+                                                "Stiffness/source = fem, not ", source.name()));
+    source.check(input);
   }
 
   stiffness::StiffnessResult write_stiffness(const Scene &scene, const RunDirectory &dir,
@@ -103,6 +113,15 @@ namespace hertzgear
         nlohmann::json    json = stiffness::stiffness_json(result);
         json.update(provenance(scene));
         dir.write_text("stiffness.csv", stiffness::stiffness_csv(result));
+        // The map and contact pattern of this table, or none (no stale ones beside it).
+        for (const auto &[file, text] :
+             {std::pair<std::string, std::string>{"stiffness_map.csv",
+                                                  result.map.empty() ? "" : stiffness::stiffness_map_csv(result)},
+              {"contact_pattern.csv", result.pattern.empty() ? "" : stiffness::contact_pattern_csv(result)}})
+          if (text.empty())
+            fs::remove(dir.path() / file);
+          else
+            dir.write_text(file, text);
         dir.write_json("stiffness.json", json);
         // The fields folder appears complete, after the tables, or not at all.
         commit_fields(result.fields_partial_dir, input.fe.fields_dir);

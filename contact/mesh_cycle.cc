@@ -55,6 +55,7 @@ namespace hertzgear::contact
     std::vector<int>        cell_block;
     std::vector<FlankPoint> pinion_point, gear_point;
     std::vector<double>     u_mm, z_mm;
+    std::vector<bool>       on_flank;
     Eigen::VectorXd         gap, area;
     Eigen::MatrixXd         compliance; // per unit pressure [mm/MPa]
     Eigen::MatrixXd         local;      // local part only (block diagonal)
@@ -154,6 +155,7 @@ namespace hertzgear::contact
             g.z_mm.push_back(z);
             g.pinion_point.push_back({g.pairs[b], s, z});
             g.gear_point.push_back({-g.pairs[b], sg, z});
+            g.on_flank.push_back(on_flanks);
             g.gap(k) = on_flanks ? kinematics.unloaded_gap_mm(g.pairs[b], mesh_phase, s, z) :
                                    no_flank_gap_mm;
           }
@@ -319,6 +321,22 @@ namespace hertzgear::contact
     // F = k_h d^n: dF/dd = n F / d.
     const double k_hertz_tangent = n * load_N / weighted_penetration;
     r.k_rest_N_per_mm            = 1.0 / (1.0 / r.k_total_tangent_N_per_mm - 1.0 / k_hertz_tangent);
+
+    // Where the load sits (the columns of a torque map).
+    double force = 0, moment = 0;
+    for (unsigned int k = 0; k < g.n_cells(); ++k)
+      {
+        if (!(sol.pressure(k) > 0))
+          continue;
+        force += sol.pressure(k) * g.area(k);
+        moment += sol.pressure(k) * g.area(k) * g.z_mm[k];
+        const unsigned int local = k % n_block, iu = local % g.n_u, iz = local / g.n_u;
+        if (g.n_z > 1 && (iz == 0 || iz + 1 == g.n_z))
+          r.face_end_contact = true;
+        if ((iu > 0 && !g.on_flank[k - 1]) || (iu + 1 < g.n_u && !g.on_flank[k + 1]))
+          r.tip_contact = true;
+      }
+    r.contact_centre_z_mm = force > 0 ? moment / force : 0.0;
 
     r.cell_pair.reserve(g.n_cells());
     for (unsigned int k = 0; k < g.n_cells(); ++k)

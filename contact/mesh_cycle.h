@@ -134,6 +134,13 @@ namespace hertzgear::contact
     double                 hertz_penetration_mm = 0; // load-weighted over the pairs
     double                 k_hertz              = 0; // N/mm^n: F = k_h delta_h^n
     double                 k_rest_N_per_mm      = 0; // 1/k_rest = 1/k_tangent - 1/k_h,tangent
+    // Where the load sits: its force-weighted centre along the face (0 = mid-face), whether a
+    // loaded cell lies in the outermost face column of the grid (3D; the contact reaches a face
+    // end) and whether one borders the end of a flank across the profile (a tip or the start of
+    // the active profile of either gear: edge contact at a tip).
+    double                 contact_centre_z_mm  = 0;
+    bool                   face_end_contact     = false;
+    bool                   tip_contact          = false;
     std::vector<PairState> pairs;
     unsigned int           n_cells = 0, n_active = 0, n_iterations = 0;
 

@@ -117,21 +117,39 @@ namespace hertzgear::meshing
                      " mm at the tip radius ", r_a, " mm, below the limit ",
                      p.minimum_top_land_coefficient, " m = ", limit,
                      " mm; reduce the tip radius or the profile shift");
-    // Crowning and tip relief remove material normal to the flank; at the tip this thins the
-    // tooth by 2 Delta / cos(alpha_a) (an involute moved by Delta normal is the same involute
-    // turned by Delta / r_b). The corners at the face ends must keep the minimum top land.
-    const double alpha_a = std::acos(r_b / r_a);
-    const double removal = p.crowning_mm + p.tip_relief_mm;
-    const double s_a_mod = s_a - 2 * removal / std::cos(alpha_a);
-    HG_REQUIRE_INPUT(s_a_mod >= limit, p.name, ": crowning ", p.crowning_mm * 1e3,
-                     " um and tip relief ", p.tip_relief_mm * 1e3,
-                     " um are larger than the geometry allows: they leave a top land of ", s_a_mod,
-                     " mm at the face ends, below the limit ", limit, " mm");
     HG_REQUIRE_INPUT(p.tip_relief_mm >= 0 && p.tip_relief_length_mm >= 0 && p.crowning_mm >= 0,
                      p.name, ": crowning and tip relief must be >= 0");
+    HG_REQUIRE_INPUT(p.lead_end_relief_mm >= 0 && p.lead_end_relief_length_mm >= 0 &&
+                       p.profile_crowning_mm >= 0 && p.root_relief_mm >= 0 &&
+                       p.root_relief_length_mm >= 0,
+                     p.name, ": lead end relief, profile crowning and root relief must be >= 0");
+    HG_REQUIRE_INPUT(p.lead_end_relief_length_mm <= 0.5 * p.face_width_mm, p.name,
+                     ": lead end relief length ", p.lead_end_relief_length_mm,
+                     " mm is larger than the flank allows: the reliefs at both face ends meet "
+                     "beyond half the face width (", 0.5 * p.face_width_mm, " mm)");
+    // The modifications remove material normal to the flank; at the tip this thins the tooth by
+    // 2 Delta / cos(alpha_a) (an involute moved by Delta normal is the same involute turned by
+    // Delta / r_b). The corners at the face ends must keep the minimum top land.
+    const double alpha_a = std::acos(r_b / r_a);
+    const double removal = p.crowning_mm + p.tip_relief_mm + p.profile_crowning_mm +
+                           p.lead_end_relief_mm + 0.5 * std::abs(p.helix_slope_deviation_mm);
+    const double s_a_mod = s_a - 2 * removal / std::cos(alpha_a);
+    HG_REQUIRE_INPUT(s_a_mod >= limit, p.name, ": crowning ", p.crowning_mm * 1e3,
+                     " um and tip relief ", p.tip_relief_mm * 1e3, " um",
+                     (removal > p.crowning_mm + p.tip_relief_mm ?
+                        " with the other micro-geometry (" +
+                          std::to_string((removal - p.crowning_mm - p.tip_relief_mm) * 1e3) +
+                          " um at the tip corners)" :
+                        std::string()),
+                     " are larger than the geometry allows: they leave a top land of ", s_a_mod,
+                     " mm at the face ends, below the limit ", limit, " mm");
     const double usable_mm = r_b * (u_a - u_F);
     HG_REQUIRE_INPUT(p.tip_relief_length_mm <= usable_mm, p.name, ": tip relief length ",
                      p.tip_relief_length_mm, " mm is larger than the geometry allows: the involute "
+                     "flank is only ", usable_mm, " mm long along the line of action");
+    HG_REQUIRE_INPUT(p.tip_relief_length_mm + p.root_relief_length_mm <= usable_mm, p.name,
+                     ": tip relief length ", p.tip_relief_length_mm, " mm and root relief length ",
+                     p.root_relief_length_mm, " mm are larger than the flank allows: the involute "
                      "flank is only ", usable_mm, " mm long along the line of action");
   }
 
@@ -217,6 +235,41 @@ namespace hertzgear::meshing
       return 0;
     const double q = (roll_length_mm - start) / params.tip_relief_length_mm;
     return params.tip_relief_mm * (params.tip_relief_shape == TipReliefShape::linear ? q : q * q);
+  }
+
+  double GearGeometry::lead_modification_mm(const double z_mm) const
+  {
+    const auto  &p     = params;
+    double       value = crowning_mm(z_mm) + p.helix_slope_deviation_mm * z_mm / p.face_width_mm;
+    const double knee  = 0.5 * p.face_width_mm - p.lead_end_relief_length_mm;
+    if (p.lead_end_relief_mm > 0 && p.lead_end_relief_length_mm > 0 && std::abs(z_mm) > knee)
+      value += p.lead_end_relief_mm * (std::abs(z_mm) - knee) / p.lead_end_relief_length_mm;
+    return value;
+  }
+
+  std::vector<double> GearGeometry::lead_breakpoints_mm() const
+  {
+    if (params.lead_end_relief_mm <= 0 || params.lead_end_relief_length_mm <= 0)
+      return {};
+    const double knee = 0.5 * params.face_width_mm - params.lead_end_relief_length_mm;
+    return {-knee, knee};
+  }
+
+  double GearGeometry::profile_modification_mm(const double roll_length_mm) const
+  {
+    const auto  &p     = params;
+    double       value = tip_relief_mm(roll_length_mm);
+    const double xi_s  = std::max(p.active_profile_start_roll_mm, r_b * u_F);
+    const double xi_a  = r_b * u_a;
+    if (p.profile_crowning_mm > 0 && xi_a > xi_s)
+      {
+        const double q = (2 * roll_length_mm - xi_s - xi_a) / (xi_a - xi_s);
+        value += p.profile_crowning_mm * q * q;
+      }
+    if (p.root_relief_mm > 0 && p.root_relief_length_mm > 0 &&
+        roll_length_mm < xi_s + p.root_relief_length_mm)
+      value += p.root_relief_mm * (1 - (roll_length_mm - xi_s) / p.root_relief_length_mm);
+    return value;
   }
 
   double GearGeometry::crowning_radius_mm() const

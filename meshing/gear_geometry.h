@@ -76,10 +76,17 @@ namespace hertzgear::meshing
     // length xi = r_b u (distance from the base tangent point): crowning + tip relief.
     double crowning_mm(double z_mm) const;
     double tip_relief_mm(double roll_length_mm) const;
+    // Along the face: crowning, helix slope deviation and lead end relief.
+    double lead_modification_mm(double z_mm) const;
+    // Across the profile: tip relief, profile crowning and root relief.
+    double profile_modification_mm(double roll_length_mm) const;
     double modification_mm(double roll_length_mm, double z_mm) const
     {
-      return crowning_mm(z_mm) + tip_relief_mm(roll_length_mm);
+      return lead_modification_mm(z_mm) + profile_modification_mm(roll_length_mm);
     }
+    // Face positions where the lead modification changes its formula (the lead end relief
+    // knees); between them it is a quadratic in z.
+    std::vector<double> lead_breakpoints_mm() const;
     // Radius of the crowning parabola, R = b^2 / (8 beta); infinity when uncrowned.
     double crowning_radius_mm() const;
 

@@ -28,6 +28,22 @@ namespace hertzgear::meshing
     double tip_relief_mm                 = 0; // C_a at the tip
     double tip_relief_length_mm          = 0; // along the line of action, from the tip
     TipReliefShape tip_relief_shape      = TipReliefShape::linear;
+    // Micro-geometry (docs/geometry.md, "Micro-geometry"), each material removed normal to the
+    // flank, z measured from mid-face, roll lengths xi from the base tangent point:
+    //   helix slope deviation f_Hb:  f_Hb z / b (signed: > 0 removes material at +z)
+    //   lead end relief C_b over L_b at both face ends: C_b (|z| - (b/2 - L_b)) / L_b
+    //   profile crowning C_a (barrelling) over the active profile [xi_s, xi_a]:
+    //     C_a ((2 xi - xi_s - xi_a) / (xi_a - xi_s))^2
+    //   root relief C_f over L_f from the start of the active profile: C_f (1 - (xi - xi_s)/L_f)
+    double helix_slope_deviation_mm      = 0;
+    double lead_end_relief_mm            = 0;
+    double lead_end_relief_length_mm     = 0;
+    double profile_crowning_mm           = 0;
+    double root_relief_mm                = 0;
+    double root_relief_length_mm         = 0;
+    // Roll length xi_s of the start of the active profile; set by PairKinematics from the mating
+    // gear (0: the form circle).
+    double active_profile_start_roll_mm  = 0;
     // Reduction of the circular tooth thickness on the reference circle (makes backlash);
     // usually set by PairKinematics from the requested backlash, not by hand.
     double thickness_reduction_mm = 0;
@@ -46,5 +62,13 @@ namespace hertzgear::meshing
     double center_distance_mm = 0;
     // Total backlash along the line of action j_bn, used when center_distance_mm = 0.
     double backlash_loa_mm = 0;
+    // Shaft misalignment, each as the difference over the face width b [mm] (ISO 6336-1,
+    // ISO/TR 10064-3): the mesh misalignment f_ma along the line of action, the inclination
+    // f_Sd of the axes in their common plane and their deviation f_Sb across it. Together they
+    // open the gap along the line of action by f_eq z / b, f_eq = f_ma + f_Sd sin(alpha_w) +
+    // f_Sb cos(alpha_w) (signed: > 0 opens the +z end).
+    double mesh_misalignment_mm = 0;
+    double axis_inclination_mm  = 0;
+    double axis_deviation_mm    = 0;
   };
 } // namespace hertzgear::meshing

@@ -3,6 +3,7 @@
 #include "common/errors.h"
 #include "meshing/involute.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -66,6 +67,13 @@ namespace hertzgear::meshing
     L   = a_w * std::sin(alpha_w);
     s_E = std::sqrt(std::pow(pinion().tip_radius_mm(), 2) - rb1 * rb1);
     s_A = L - std::sqrt(std::pow(gear().tip_radius_mm(), 2) - rb2 * rb2);
+    // The profile modifications that start at the active profile (profile crowning, root
+    // relief) need where the mating tip meets each flank: rebuild the gears with it.
+    p1.active_profile_start_roll_mm = s_A;
+    p2.active_profile_start_roll_mm = L - s_E;
+    gears.clear();
+    gears.emplace_back(p1);
+    gears.emplace_back(p2);
     check();
   }
 
@@ -96,11 +104,27 @@ namespace hertzgear::meshing
                      " mm)");
     const double active = path_of_contact_mm();
     for (const GearGeometry *g : {&g1, &g2})
-      HG_REQUIRE_INPUT(g->parameters().tip_relief_length_mm <= active + 1e-12,
-                       g->parameters().name, ": tip relief length ",
-                       g->parameters().tip_relief_length_mm,
-                       " mm is larger than the geometry allows: the active profile (path of "
-                       "contact) is only ", active, " mm long");
+      {
+        const auto &gp = g->parameters();
+        HG_REQUIRE_INPUT(gp.tip_relief_length_mm <= active + 1e-12, gp.name, ": tip relief length ",
+                         gp.tip_relief_length_mm,
+                         " mm is larger than the geometry allows: the active profile (path of "
+                         "contact) is only ", active, " mm long");
+        HG_REQUIRE_INPUT(gp.tip_relief_length_mm + gp.root_relief_length_mm <= active + 1e-12,
+                         gp.name, ": tip relief length ", gp.tip_relief_length_mm,
+                         " mm and root relief length ", gp.root_relief_length_mm,
+                         " mm are larger than the flank allows: together they exceed the active "
+                         "profile (path of contact, ", active, " mm)");
+      }
+    // A misaligned pair touches at one face end; at the other the drive flanks stand f_eq apart
+    // and the back flanks j_bn - f_eq.
+    const double f_eq = std::abs(misalignment_mm());
+    HG_REQUIRE_INPUT(f_eq <= 0 || f_eq < j_bn, "shaft misalignment: the drive flanks open by ",
+                     f_eq * 1e3, " um along the line of action over the face width ({mesh_misalignment_mm} + "
+                     "{axis_inclination_mm} sin(alpha_w) + {axis_deviation_mm} cos(alpha_w)), more "
+                     "than the "
+                     "backlash j_bn = ", j_bn * 1e3, " um: at the open face end the back flanks would "
+                     "overlap by ", (f_eq - j_bn) * 1e3, " um, so the pair jams");
   }
 
   double PairKinematics::reference_center_distance_mm() const
@@ -272,16 +296,80 @@ namespace hertzgear::meshing
                               xi2 * Eigen::Vector2d(-std::sin(t2), std::cos(t2));
     const double geometric = (Q - P).dot(line_of_action_direction());
     return geometric + pinion().modification_mm(pinion_roll_mm, z_mm) +
-           gear().modification_mm(xi2, z_mm);
+           gear().modification_mm(xi2, z_mm) + misalignment_gap_mm(z_mm);
+  }
+
+  double PairKinematics::misalignment_mm() const
+  {
+    return params.mesh_misalignment_mm + params.axis_inclination_mm * std::sin(alpha_w) +
+           params.axis_deviation_mm * std::cos(alpha_w);
+  }
+
+  double PairKinematics::misalignment_gap_mm(const double z_mm) const
+  {
+    return misalignment_mm() * z_mm / face_width_mm();
+  }
+
+  double PairKinematics::face_width_mm() const
+  {
+    return std::min(pinion().face_width_mm(), gear().face_width_mm());
+  }
+
+  double PairKinematics::lead_gap_mm(const double z_mm) const
+  {
+    return pinion().lead_modification_mm(z_mm) + gear().lead_modification_mm(z_mm) +
+           misalignment_gap_mm(z_mm);
+  }
+
+  std::pair<double, double> PairKinematics::smallest_lead_gap_mm() const
+  {
+    // Piecewise quadratic in z between the lead relief knees of both flanks: on each piece the
+    // quadratic through three values gives the minimum exactly (an end or the vertex).
+    const double        half = 0.5 * face_width_mm();
+    std::vector<double> knots{-half, half};
+    for (const GearGeometry *g : {&pinion(), &gear()})
+      for (const double z : g->lead_breakpoints_mm())
+        if (std::abs(z) < half)
+          knots.push_back(z);
+    std::sort(knots.begin(), knots.end());
+    std::pair<double, double> best{0.0, std::numeric_limits<double>::infinity()};
+    const auto consider = [&](const double z) {
+      const double v = lead_gap_mm(z);
+      if (v < best.second)
+        best = {z, v};
+    };
+    for (std::size_t i = 0; i + 1 < knots.size(); ++i)
+      {
+        const double a = knots[i], b = knots[i + 1], m = 0.5 * (a + b), h = 0.5 * (b - a);
+        if (h <= 0)
+          continue;
+        // Evaluate just inside the piece so that a knee's kink does not enter the quadratic.
+        const double e  = 1e-9 * h;
+        const double fa = lead_gap_mm(a + e), fm = lead_gap_mm(m), fb = lead_gap_mm(b - e);
+        consider(a);
+        consider(b);
+        const double curvature = fa - 2 * fm + fb;
+        if (curvature > 0)
+          {
+            const double vertex = m - (h - e) * (fb - fa) / (2 * curvature);
+            if (vertex > a && vertex < b)
+              consider(vertex);
+          }
+      }
+    return best;
   }
 
   double PairKinematics::rigid_approach_mm(const double mesh_phase) const
   {
-    double approach = std::numeric_limits<double>::infinity();
+    // The modifications separate into a lead part (z) and a profile part (roll length), so the
+    // smallest over the face is the profile part plus the smallest lead part.
+    const double lead     = smallest_lead_gap_mm().second;
+    double       approach = std::numeric_limits<double>::infinity();
     for (const int j : pairs_in_contact(mesh_phase))
       {
         const double s = contact_roll_distance_mm(j, mesh_phase);
-        approach = std::min(approach, pinion().modification_mm(s, 0) + gear().modification_mm(L - s, 0));
+        approach = std::min(approach, pinion().profile_modification_mm(s) +
+                                        gear().profile_modification_mm(L - s) + lead);
       }
     return approach;
   }

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include <utility>
 #include <vector>
 
 namespace hertzgear::meshing
@@ -96,9 +97,18 @@ namespace hertzgear::meshing
     // Without the rigid approach (the separation of the nominal flanks plus modifications).
     double separation_mm(int pair, double mesh_phase, double pinion_roll_mm, double z_mm) const;
     // The rigid approach at tau: min over the pairs in contact and over z of the modifications
-    // at the contact lines. Crowning Delta(z) is smallest at z = 0 and tip relief does not
-    // depend on z, so the minimum over z is taken at z = 0 exactly.
+    // and the misalignment at the contact lines (exact: the lead part is piecewise quadratic).
     double rigid_approach_mm(double mesh_phase) const;
+    // Shaft misalignment along the line of action over the face width, f_eq = f_ma + f_Sd
+    // sin(alpha_w) + f_Sb cos(alpha_w) [mm], and its gap contribution f_eq z / b.
+    double misalignment_mm() const;
+    double misalignment_gap_mm(double z_mm) const;
+    // The common face width b = min(b_1, b_2) [mm] (the contact grid's).
+    double face_width_mm() const;
+    // The z-dependent part of the separation: lead modifications of both flanks plus the
+    // misalignment, and where over the face it is smallest (z, value) [mm].
+    double                    lead_gap_mm(double z_mm) const;
+    std::pair<double, double> smallest_lead_gap_mm() const;
     // Gear flank point hit along e from the pinion flank point: its roll distance from T2.
     double gear_roll_at_mm(int pair, double mesh_phase, double pinion_roll_mm) const;
 

@@ -4,8 +4,9 @@
     hertzgear_report.py DIR [--out REPORT_DIR]
 
 Reads whatever artifacts DIR holds, flat or in the sub-folders stiffness/, dynamics/, sweep/ and
-accuracy/ (stiffness.csv/json, timeseries.csv, poincare.csv, spectrum.csv, force_penetration.csv,
-summary.json, sweep.csv, bifurcation.csv, accuracy tables, used_parameters.prm, run.json) and
+accuracy/ (stiffness.csv/json, stiffness_map.csv, contact_pattern.csv, timeseries.csv,
+poincare.csv, spectrum.csv, force_penetration.csv, summary.json, sweep.csv, bifurcation.csv,
+accuracy tables, used_parameters.prm, run.json) and
 writes PNG figures and index.html into DIR/report/ (or REPORT_DIR). A figure whose input is absent
 is left out with a note on the page. Every file is written atomically (temporary file in the same
 folder, then os.replace), so an interrupted report leaves no half-written file behind.

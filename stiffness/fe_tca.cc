@@ -1,4 +1,5 @@
 #include "stiffness/fe_tca.h"
+#include "stiffness/load_map.h"
 
 #include "common/atomic_file.h"
 #include "common/errors.h"
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -317,6 +319,60 @@ namespace hertzgear::stiffness
 
     // The rows, fits and table of a mesh cycle (N, mm inside; SI and the units of the row names
     // outside).
+    // One row of stiffness.csv from a solved position (SI in the columns' units).
+    PositionRow row_of_position(const contact::PositionResult &p, const double n)
+    {
+      PositionRow               row;
+      const contact::PairState *main_pair = nullptr;
+      int                       n_loaded  = 0;
+      row.load_share_1 = 0.0;
+      row.load_share_2 = 0.0;
+      for (const auto &pair : p.pairs)
+        {
+          // Pair 1 is the pair that entered at phase 0, pair 2 the one ahead of it.
+          if (pair.pair == 0)
+            row.load_share_1 = pair.load_share;
+          if (pair.pair == 1)
+            row.load_share_2 = pair.load_share;
+          n_loaded += pair.load_share > 0;
+          if (!main_pair || pair.force_N > main_pair->force_N)
+            main_pair = &pair;
+        }
+      row.mesh_phase              = p.mesh_phase;
+      row.ste_um                  = p.ste_mm * 1e3;
+      row.k_total_N_per_m         = p.k_total_secant_N_per_mm * 1e3;
+      row.k_total_tangent_N_per_m = p.k_total_tangent_N_per_mm * 1e3;
+      row.k_hertz_N_per_m_pow_n   = p.k_hertz * std::pow(1e3, n);
+      row.k_rest_N_per_m          = p.k_rest_N_per_mm * 1e3;
+      row.pairs_in_contact        = n_loaded;
+      row.hertz_penetration_um    = p.hertz_penetration_mm * 1e3;
+      row.contact_a_mm            = main_pair->contact_a_mm;
+      row.contact_b_mm            = main_pair->contact_b_mm;
+      // The highest pressure of the position, whichever pair carries it (at a tip the entering
+      // pair can carry little force at a high pressure).
+      for (const auto &pair : p.pairs)
+        row.peak_pressure_MPa = std::max(row.peak_pressure_MPa, pair.peak_pressure_MPa);
+      row.contact_centre_z_mm     = p.contact_centre_z_mm;
+      row.face_end_contact        = p.face_end_contact;
+      row.tip_contact             = p.tip_contact;
+      return row;
+    }
+
+    // The loaded cells of a cycle on the pinion flank.
+    std::vector<ContactPatternCell> pattern_of_cycle(const contact::MeshCycleResult &cycle)
+    {
+      std::vector<ContactPatternCell> cells;
+      for (std::size_t i = 0; i < cycle.positions.size(); ++i)
+        {
+          const auto &p = cycle.positions[i];
+          for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
+            if (p.cell_pressure_MPa[k] > 0)
+              cells.push_back({static_cast<int>(i), p.cell_pair[k], p.cell_pinion_roll_mm[k],
+                               p.cell_z_mm[k], p.cell_pressure_MPa[k]});
+        }
+      return cells;
+    }
+
     StiffnessResult result_of_cycle(const contact::MeshCycleResult &cycle, const double n,
                                     const int harmonics)
     {
@@ -341,34 +397,7 @@ namespace hertzgear::stiffness
           t.samples.unloaded_ste_m.push_back(p.unloaded_ste_mm * 1e-3);
           k_rest.push_back(p.k_rest_N_per_mm);
           unloaded.push_back(p.unloaded_ste_mm);
-
-          PositionRow row;
-          const contact::PairState *main_pair = nullptr;
-          int                       n_loaded  = 0;
-          row.load_share_1 = 0.0;
-          row.load_share_2 = 0.0;
-          for (const auto &pair : p.pairs)
-            {
-              // Pair 1 is the pair that entered at phase 0, pair 2 the one ahead of it.
-              if (pair.pair == 0)
-                row.load_share_1 = pair.load_share;
-              if (pair.pair == 1)
-                row.load_share_2 = pair.load_share;
-              n_loaded += pair.load_share > 0;
-              if (!main_pair || pair.force_N > main_pair->force_N)
-                main_pair = &pair;
-            }
-          row.mesh_phase            = p.mesh_phase;
-          row.ste_um                = p.ste_mm * 1e3;
-          row.k_total_N_per_m       = p.k_total_secant_N_per_mm * 1e3;
-          row.k_hertz_N_per_m_pow_n = p.k_hertz * std::pow(1e3, n);
-          row.k_rest_N_per_m        = p.k_rest_N_per_mm * 1e3;
-          row.pairs_in_contact      = n_loaded;
-          row.hertz_penetration_um  = p.hertz_penetration_mm * 1e3;
-          row.contact_a_mm          = main_pair->contact_a_mm;
-          row.contact_b_mm          = main_pair->contact_b_mm;
-          row.peak_pressure_MPa     = main_pair->peak_pressure_MPa;
-          r.rows.push_back(row);
+          r.rows.push_back(row_of_position(p, n));
         }
       const auto &phases = t.samples.mesh_phase;
       const auto  H      = static_cast<unsigned int>(harmonics);
@@ -377,6 +406,38 @@ namespace hertzgear::stiffness
       t.has_unloaded_ste = true;
       t.check();
       return r;
+    }
+
+    // Which teeth can carry load: pair j uses pinion tooth +j and gear tooth -j, and pairs
+    // 0 .. ceil(eps) - 1 meet the path of contact during one cycle (unloaded teeth need no column
+    // in the compliance table). A body meshed as a sector has teeth 0 .. N-1 with the central one
+    // N/2; a full gear has all. Throws ParameterError when the sector is too small.
+    std::array<std::vector<int>, 2> loaded_teeth(const StiffnessInput &in,
+                                                 const meshing::PairKinematics &kin)
+    {
+      const auto &fe      = in.fe;
+      const int   n_pairs = static_cast<int>(std::ceil(kin.contact_ratio()));
+      const auto  has_tooth = [&](const int z, const int relative) {
+        const int n_sector = fe.teeth_per_sector;
+        if (fe.body_model == "full-gear" || n_sector >= z)
+          return true;
+        const int k = n_sector / 2 + relative;
+        return k >= 0 && k < n_sector;
+      };
+      std::array<std::vector<int>, 2> teeth;
+      for (int j = 0; j < n_pairs; ++j)
+        if (has_tooth(in.pair.pinion.teeth, j) && has_tooth(in.pair.gear.teeth, -j))
+          {
+            teeth[0].push_back(j);
+            teeth[1].push_back(-j);
+          }
+      if (static_cast<int>(teeth[0].size()) != n_pairs)
+        throw ParameterError("teeth_per_sector",
+                             msg(fe.teeth_per_sector, " is too few: the contact ratio ",
+                                 kin.contact_ratio(), " needs ", n_pairs,
+                                 " loaded teeth on each side of the sector's centre; use at least ",
+                                 2 * n_pairs + 1));
+      return teeth;
     }
 
     // One FE/half-space TCA, phase by phase; run() reads as the algorithm.
@@ -403,6 +464,7 @@ namespace hertzgear::stiffness
             make_body_and_compliance_table(b);
         solve_contact_cycle();
         solve_extra_contact_grids();
+        solve_map();
         if (!fe.fields_dir.empty())
           write_fields();
         return fit();
@@ -429,6 +491,7 @@ namespace hertzgear::stiffness
       std::vector<contact::MeshCycleResult>    extra_cycles;
       double                                   cycle_time_s = 0;
       std::vector<double>                      extra_cycle_time_s;
+      std::vector<MapCase>                     map;
       fs::path                                 fields_partial_dir;
 
       static std::string body_name(const unsigned int b) { return b == 0 ? "pinion" : "gear"; }
@@ -446,29 +509,9 @@ namespace hertzgear::stiffness
       // column in the compliance table).
       void choose_loaded_teeth()
       {
-        const int n_pairs = static_cast<int>(std::ceil(kin->contact_ratio()));
-        // A body meshed as a sector has teeth 0 .. N-1 with the central one N/2; a full gear has all.
-        const auto has_tooth = [&](const int z, const int relative) {
-          if (full_gear_model())
-            return true;
-          const int n_sector = fe.teeth_per_sector;
-          if (n_sector >= z)
-            return true;
-          const int k = n_sector / 2 + relative;
-          return k >= 0 && k < n_sector;
-        };
-        for (int j = 0; j < n_pairs; ++j)
-          if (has_tooth(input.pair.pinion.teeth, j) && has_tooth(input.pair.gear.teeth, -j))
-            {
-              teeth[0].push_back(j);
-              teeth[1].push_back(-j);
-            }
-        if (static_cast<int>(teeth[0].size()) != n_pairs)
-          throw ParameterError("teeth_per_sector",
-                               msg(fe.teeth_per_sector, " is too few: the contact ratio ",
-                                   kin->contact_ratio(), " needs ", n_pairs,
-                                   " loaded teeth on each side of the sector's centre; use at least ",
-                                   2 * n_pairs + 1));
+        const auto loaded = loaded_teeth(input, *kin);
+        teeth[0]          = loaded[0];
+        teeth[1]          = loaded[1];
       }
 
       void set_table_settings()
@@ -659,17 +702,24 @@ namespace hertzgear::stiffness
 
       contact::MeshCycleResult solve_cycle(const contact::MeshCycleSettings &cs, const bool progress) const
       {
+        return solve_cycle(cs, *kin, load_N, progress);
+      }
+
+      contact::MeshCycleResult solve_cycle(const contact::MeshCycleSettings &cs,
+                                           const meshing::PairKinematics &kinematics,
+                                           const double load, const bool progress) const
+      {
         // Decoupled teeth: the study of what the coupling of loaded teeth does.
         const contact::DecoupledFlankCompliance decoupled_pinion(compliance(0)), decoupled_gear(compliance(1));
         const contact::FlankCompliance &c0 =
           fe.decoupled_teeth ? static_cast<const contact::FlankCompliance &>(decoupled_pinion) : compliance(0);
         const contact::FlankCompliance &c1 =
           fe.decoupled_teeth ? static_cast<const contact::FlankCompliance &>(decoupled_gear) : compliance(1);
-        const contact::MeshCycle mesh_cycle(*kin, input.pinion_material, input.gear_material, c0, c1, cs);
+        const contact::MeshCycle mesh_cycle(kinematics, input.pinion_material, input.gear_material, c0, c1, cs);
         if (!progress)
-          return mesh_cycle.run(load_N);
+          return mesh_cycle.run(load);
         auto t0 = std::chrono::steady_clock::now();
-        return mesh_cycle.run(load_N, [&](unsigned int i, const contact::PositionResult &p) {
+        return mesh_cycle.run(load, [&](unsigned int i, const contact::PositionResult &p) {
           std::ostringstream line;
           line << "position " << i + 1 << "/" << cs.n_positions << "  phase " << std::fixed
                << std::setprecision(3) << p.mesh_phase << "  STE " << std::setprecision(3)
@@ -696,6 +746,12 @@ namespace hertzgear::stiffness
         const auto        t0 = std::chrono::steady_clock::now();
         cycle                = solve_cycle(cs, true);
         cycle_time_s         = seconds_since(t0);
+        const auto face_end  = std::count_if(cycle.positions.begin(), cycle.positions.end(),
+                                            [](const auto &p) { return p.face_end_contact; });
+        if (face_end > 0)
+          progress_line("stiffness", msg("warning: the contact reaches a face end at ", face_end, " of ",
+                                         cycle.positions.size(),
+                                         " positions (edge contact; column face_end_contact)"));
       }
 
       // The contact-grid ladder of `hertzgear accuracy stiffness`: the same FE bodies.
@@ -716,6 +772,56 @@ namespace hertzgear::stiffness
                  << std::setprecision(3) << seconds_since(t0) << " s)";
             progress_line("stiffness", line.str());
           }
+      }
+
+      // The load and design map: every case a further contact cycle on the same FE bodies.
+      void solve_map()
+      {
+        const auto cases = map_cases(input);
+        if (cases.empty())
+          return;
+        PhaseTimer::Scope scope(timer, "load and design map");
+        const auto        n = input.hertz_exponent;
+        for (std::size_t c = 0; c < cases.size(); ++c)
+          {
+            MapCase                       mc = cases[c];
+            const meshing::PairKinematics kinematics(map_case_pair(input, mc));
+            mc.load_N     = mc.torque_Nm * 1.0e3 / kinematics.pinion().base_radius_mm();
+            const auto t0 = std::chrono::steady_clock::now();
+            const auto cyc = solve_cycle(cycle_settings, kinematics, mc.load_N, false);
+            mc.contact_time_s = seconds_since(t0);
+            for (const auto &p : cyc.positions)
+              mc.rows.push_back(row_of_position(p, n));
+            mc.pattern = pattern_of_cycle(cyc);
+            report_map_case(c, cases.size(), mc);
+            map.push_back(std::move(mc));
+          }
+      }
+
+      void report_map_case(const std::size_t c, const std::size_t n_cases, const MapCase &mc) const
+      {
+        double ste_min = 1e300, ste_max = -1e300, p_max = 0;
+        int    face_end = 0;
+        for (const auto &row : mc.rows)
+          {
+            ste_min = std::min(ste_min, row.ste_um);
+            ste_max = std::max(ste_max, row.ste_um);
+            p_max   = std::max(p_max, row.peak_pressure_MPa);
+            face_end += row.face_end_contact.value_or(false);
+          }
+        std::ostringstream line;
+        line << "map " << c + 1 << "/" << n_cases << "  torque " << std::setprecision(5) << mc.torque_Nm
+             << " N m (" << mc.torque_percent << " %)  crowning " << mc.pinion_crowning_mm * 1e3
+             << (mc.gear_crowning_mm != mc.pinion_crowning_mm ? msg("/", mc.gear_crowning_mm * 1e3) : "")
+             << " um  misalignment " << mc.mesh_misalignment_mm * 1e3 << " um:  STE p-p "
+             << std::fixed << std::setprecision(3) << ste_max - ste_min << " um  peak pressure "
+             << std::setprecision(0) << p_max << " MPa  (" << std::setprecision(2) << mc.contact_time_s
+             << " s)";
+        progress_line("stiffness", line.str());
+        if (face_end > 0)
+          progress_line("stiffness",
+                        msg("warning: map ", c + 1, ": the contact reaches a face end at ", face_end,
+                            " of ", mc.rows.size(), " positions (edge contact; column face_end_contact)"));
       }
 
       void write_fields()
@@ -777,6 +883,11 @@ namespace hertzgear::stiffness
             r.extra_grids.back().contact_time_s = extra_cycle_time_s[k];
           }
         r.fields_partial_dir = fields_partial_dir;
+        r.pattern            = pattern_of_cycle(cycle);
+        r.map                = map;
+        r.face_width_mm      = kin->face_width_mm();
+        r.pinion_active_roll_min_mm = kin->point('A').roll_distance_mm;
+        r.pinion_active_roll_max_mm = kin->point('E').roll_distance_mm;
         r.notes_key          = "fe";
         auto &m              = r.notes;
         m["bodies"]          = body_notes;
@@ -835,6 +946,8 @@ namespace hertzgear::stiffness
                                msg(depth, " mm is deeper than half a module (", 0.5 * module_mm,
                                    " mm): the half-space cannot stand for the local deformation "
                                    "of a tooth that deep"));
+        check_map(input);
+        loaded_teeth(input, meshing::PairKinematics(input.pair));
         if (fe.table_roll_nodes == 1)
           throw ParameterError("table_roll_nodes", "1: the compliance table needs at least 2 nodes "
                                                    "across the active profile (0 = automatic)");

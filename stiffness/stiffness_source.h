@@ -69,7 +69,17 @@ namespace hertzgear::stiffness
     // source fourier: the series themselves (SI).
     FourierSeries k_rest_N_per_m, k_hertz_N_per_m_pow_n;
     FeSettings    fe;
-
+    // Load and design map (source fem): further contact cycles on the same bodies. Cases: every
+    // torque (percent of torque_Nm; none: torque_Nm) with every lead crowning variant (each on
+    // both gears; none: the pair's own), then every mesh misalignment variant at torque_Nm with
+    // every crowning variant.
+    std::vector<double> torque_map_percent;
+    std::vector<double> crowning_map_mm;
+    std::vector<double> misalignment_map_mm;
+    bool has_map() const
+    {
+      return !torque_map_percent.empty() || !crowning_map_mm.empty() || !misalignment_map_mm.empty();
+    }
   };
 
   // One mesh position: the columns of stiffness.csv. What a source does not compute is empty.
@@ -84,6 +94,31 @@ namespace hertzgear::stiffness
     std::optional<double> load_share_1, load_share_2; // pair 1 entered at phase 0, pair 2 is ahead
     double                hertz_penetration_um = 0;
     double                contact_a_mm = 0, contact_b_mm = 0, peak_pressure_MPa = 0;
+    // Sources that solve the contact (fem): the tangent stiffness dF/d(approach), the
+    // force-weighted centre of the contact along the face (0 = mid-face) and whether the loaded
+    // contact reaches a face end or a tip (edge contact).
+    std::optional<double> k_total_tangent_N_per_m;
+    std::optional<double> contact_centre_z_mm;
+    std::optional<bool>   face_end_contact, tip_contact;
+  };
+
+  // A loaded cell of the contact grid on the pinion flank (contact patterns).
+  struct ContactPatternCell
+  {
+    int    position = 0, pair = 0;
+    double pinion_roll_mm = 0, z_mm = 0, pressure_MPa = 0;
+  };
+
+  // One case of the load and design map: its torque, lead crowning and mesh misalignment, and
+  // the rows of its contact cycle.
+  struct MapCase
+  {
+    double                          torque_Nm = 0, torque_percent = 0, load_N = 0;
+    double                          pinion_crowning_mm = 0, gear_crowning_mm = 0;
+    double                          mesh_misalignment_mm = 0;
+    std::vector<PositionRow>        rows;
+    std::vector<ContactPatternCell> pattern;
+    double                          contact_time_s = 0;
   };
 
   struct StiffnessResult
@@ -102,6 +137,11 @@ namespace hertzgear::stiffness
     // (commit_fields renames them); further contact grids (FeSettings::extra_contact_grids).
     std::filesystem::path        fields_partial_dir;
     std::vector<StiffnessResult> extra_grids;
+    // The scene's own cycle as contact pattern, and the load and design map (StiffnessInput).
+    std::vector<ContactPatternCell> pattern;
+    std::vector<MapCase>            map;
+    // Where the pinion's flank lies (contact pattern axes): active profile and face width [mm].
+    double pinion_active_roll_min_mm = 0, pinion_active_roll_max_mm = 0, face_width_mm = 0;
   };
 
   // The fits and means of the rows (k_total, STE, mean k_rest) with `harmonics` harmonics.

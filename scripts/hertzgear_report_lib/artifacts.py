@@ -2,8 +2,10 @@
 
 Finds each artifact in the run directory or its stage sub-folders, parses CSV tables, JSON and the
 deal.II parameter file (used_parameters.prm), picks the Fourier coefficients out of stiffness.json,
-and gathers the scene quantities the figures need (half backlash, mesh frequency, Hertz exponent,
-static force). Files are written atomically: a temporary file in the same folder, then os.replace.
+gathers the scene quantities the figures need (half backlash, mesh frequency, Hertz exponent,
+static force) and the load and design map of a stiffness run (per-case summaries, their torque and
+misalignment series, the loaded contact-grid cells and the flank's limits). Files are written
+atomically: a temporary file in the same folder, then os.replace.
 """
 
 import csv
@@ -22,9 +24,9 @@ EXIT_BAD_INPUT = 2
 STAGE_FOLDERS = ("", "stiffness", "dynamics", "sweep", "accuracy")
 
 ARTIFACT_NAMES = (
-    "stiffness.csv", "stiffness.json", "timeseries.csv", "poincare.csv", "spectrum.csv",
-    "force_penetration.csv", "summary.json", "sweep.csv", "bifurcation.csv",
-    "used_parameters.prm", "run.json",
+    "stiffness.csv", "stiffness.json", "stiffness_map.csv", "contact_pattern.csv",
+    "timeseries.csv", "poincare.csv", "spectrum.csv", "force_penetration.csv", "summary.json",
+    "sweep.csv", "bifurcation.csv", "used_parameters.prm", "run.json",
 )
 
 # In the name of a temporary file, between its leading dot and final name and a random tail.
@@ -433,3 +435,162 @@ class Scene:
                         isinstance(v, (int, float)):
                     return float(v)
         return prm_float(self.prm, "Stiffness", "hertz_exponent")
+
+
+# --------------------------------------------------------------------------------------------
+# The load and design map of a stiffness run
+# --------------------------------------------------------------------------------------------
+
+# The keys that name a map case (stiffness.json "map" and the first columns of stiffness_map.csv).
+MAP_CASE_KEYS = ("case", "torque_Nm", "torque_percent", "load_N", "pinion_crowning_um",
+                 "gear_crowning_um", "mesh_misalignment_um")
+
+# (summary key, stiffness_map.csv column, reduction over the positions of a case): how a summary
+# of stiffness.json "map" follows from the rows of stiffness_map.csv when the JSON lacks it.
+MAP_SUMMARY_OF_ROWS = (
+    ("ste_peak_to_peak_um", "ste_um", np.ptp), ("mean_ste_um", "ste_um", np.mean),
+    ("mean_k_total_N_per_m", "k_total_N_per_m", np.mean),
+    ("mean_k_rest_N_per_m", "k_rest_N_per_m", np.mean),
+    ("max_peak_pressure_MPa", "peak_pressure_MPa", np.max),
+    ("contact_centre_z_min_mm", "contact_centre_z_mm", np.min),
+    ("contact_centre_z_max_mm", "contact_centre_z_mm", np.max),
+    ("face_end_contact_positions", "face_end_contact", np.sum),
+    ("tip_contact_positions", "tip_contact", np.sum),
+)
+
+
+def map_summaries_of_rows(table):
+    """The per-case summaries of stiffness_map.csv, in case order, with n_positions."""
+    if not table.numeric("case"):
+        return []
+    summaries = []
+    for case in np.unique(table["case"]):
+        rows = table["case"] == case
+        s = {k: float(table[k][rows][0]) for k in MAP_CASE_KEYS if table.numeric(k)}
+        s.update({key: float(reduce(table[col][rows])) for key, col, reduce in MAP_SUMMARY_OF_ROWS
+                  if table.numeric(col)})
+        s["n_positions"] = int(rows.sum())
+        summaries.append(s)
+    return summaries
+
+
+def map_summaries(stiffness_json, table):
+    """The per-case summaries of the map: stiffness.json "map" when it lists them, else derived
+    from stiffness_map.csv; [] when the run has no map. A case lacking a torque, a crowning or a
+    misalignment is dropped."""
+    listed = stiffness_json.get("map") if isinstance(stiffness_json, dict) else None
+    if isinstance(listed, list) and listed:
+        cases = [c for c in listed if isinstance(c, dict)]
+    elif table is not None:
+        cases = map_summaries_of_rows(table)
+    else:
+        return []
+    return [c for c in cases if all(is_number(c.get(k)) for k in MAP_CASE_KEYS)]
+
+
+def same(a, b, tol=1e-6):
+    return a is not None and b is not None and abs(a - b) <= tol * max(1.0, abs(a), abs(b))
+
+
+def crowning_of(case):
+    """(pinion, gear) lead crowning of a map case [µm]."""
+    return (float(case["pinion_crowning_um"]), float(case["gear_crowning_um"]))
+
+
+def series_by_crowning(cases, keep, x_key):
+    """{crowning: cases sorted by x_key} of the cases `keep` accepts, one case per x value (the
+    first in case order)."""
+    groups = {}
+    for c in cases:
+        if keep(c):
+            groups.setdefault(crowning_of(c), {}).setdefault(float(c[x_key]), c)
+    return {k: [by_x[x] for x in sorted(by_x)] for k, by_x in groups.items()}
+
+
+class LoadMap:
+    """The load and design map of a stiffness run: the per-case summaries, the scene's own
+    contact summary (stiffness.json "contact"), the loaded contact-grid cells
+    (contact_pattern.csv) and the limits of the pinion flank they lie on."""
+
+    def __init__(self, art, scene):
+        js = art.get("stiffness.json")
+        js = js if isinstance(js, dict) else {}
+        self.cases = map_summaries(js, art.get("stiffness_map.csv"))
+        self.contact = js.get("contact") if isinstance(js.get("contact"), dict) else {}
+        self.cells = art.get("contact_pattern.csv")
+        stiffness = art.get("stiffness.csv")
+        self.n_positions = len(stiffness) if stiffness is not None else None
+        self.face_width_mm = self._contact_number("face_width_mm") or \
+            prm_float(scene.prm, "Gear pair/Pinion", "face_width_mm")
+        roll = (self._contact_number("pinion_active_roll_min_mm"),
+                self._contact_number("pinion_active_roll_max_mm"))
+        self.active_roll_mm = roll if None not in roll else None
+        self.scene_crowning_um = prm_float(scene.prm, "Gear pair/Pinion", "crowning_um")
+        misalignment = prm_float(scene.prm, "Operating", "mesh_misalignment_um")
+        if misalignment is None and self.cases:
+            misalignment = float(self.cases[0]["mesh_misalignment_um"])
+        self.scene_misalignment_um = misalignment
+
+    def _contact_number(self, key):
+        v = self.contact.get(key)
+        return float(v) if is_number(v) else None
+
+    def torque_series(self):
+        """{crowning: cases over torque} at the scene's misalignment."""
+        return series_by_crowning(
+            self.cases, lambda c: same(c["mesh_misalignment_um"], self.scene_misalignment_um),
+            "torque_Nm")
+
+    def misalignment_series(self):
+        """{crowning: cases over misalignment} at the nominal torque (100 %)."""
+        return series_by_crowning(self.cases, lambda c: same(c["torque_percent"], 100.0),
+                                  "mesh_misalignment_um")
+
+    def pattern_crowning(self, series):
+        """The crowning of `series` whose contact patterns to show: the scene's, else the
+        first."""
+        for crowning in series:
+            if same(crowning[0], self.scene_crowning_um):
+                return crowning
+        return next(iter(series), None)
+
+    def cells_of(self, case):
+        """(z, roll, pressure, roll height) of the loaded cells of `case` (−1: the scene's own
+        cycle), or None when contact_pattern.csv has none."""
+        t = self.cells
+        need = ("case", "position", "pair", "pinion_roll_mm", "z_mm", "pressure_MPa")
+        if t is None or not all(t.numeric(k) for k in need):
+            return None
+        rows = (t["case"] == case) & np.isfinite(t["pressure_MPa"])
+        if not rows.any():
+            return None
+        roll = t["pinion_roll_mm"][rows]
+        groups = t["position"][rows] * 1000 + t["pair"][rows]
+        return t["z_mm"][rows], roll, t["pressure_MPa"][rows], cell_heights(roll, groups)
+
+    def cell_width_mm(self):
+        """The face-width extent of a contact-grid cell: the spacing of its z values."""
+        z = np.unique(self.cells["z_mm"]) if self.cells is not None else np.array([])
+        steps = np.diff(z)
+        if steps.size:
+            return float(np.min(steps[steps > 1e-9]))
+        return (self.face_width_mm or 1.0) / 16
+
+
+def cell_heights(roll, groups):
+    """The profile (roll-distance) extent of each cell: the distance between the midpoints to its
+    neighbours in its line of cells (one position and pair), the median elsewhere for a line of
+    one cell."""
+    heights = np.full(roll.shape, np.nan)
+    for g in np.unique(groups):
+        idx = np.flatnonzero(groups == g)
+        levels = np.unique(roll[idx])
+        if levels.size < 2:
+            continue
+        edges = np.concatenate([[1.5 * levels[0] - 0.5 * levels[1]],
+                                0.5 * (levels[1:] + levels[:-1]),
+                                [1.5 * levels[-1] - 0.5 * levels[-2]]])
+        k = np.searchsorted(levels, roll[idx])
+        heights[idx] = edges[k + 1] - edges[k]
+    fallback = np.nanmedian(heights) if np.isfinite(heights).any() else 0.2
+    return np.where(np.isfinite(heights), heights, fallback)

@@ -3,9 +3,11 @@ and adds it with its caption to a page section, or adds a note saying why it is 
 its input lacks the columns it needs.
 
 Stiffness: stiffness over the mesh cycle, STE and load sharing, contact per position, contact
-pressure map. Dynamics: DTE and penetration histories, mesh force, Poincaré map, phase portrait,
-force–penetration loops, spectrum. Sweep: RMS versus speed, bifurcation diagram. Accuracy:
-work–precision diagram.
+pressure map. Load and design map: STE and stiffness against torque, peak pressure and contact
+centre against misalignment, contact patterns on the flank at several torques and misalignments (or
+over the scene's own cycle). Dynamics: DTE and penetration histories, mesh force, Poincaré map,
+phase portrait, force–penetration loops, spectrum. Sweep: RMS versus speed, bifurcation diagram.
+Accuracy: work–precision diagram.
 """
 
 import html
@@ -15,7 +17,11 @@ import re
 from collections import namedtuple
 
 import numpy as np
-from matplotlib.patches import Ellipse, Rectangle
+from matplotlib.cm import ScalarMappable
+from matplotlib.collections import PolyCollection
+from matplotlib.colors import Normalize
+from matplotlib.lines import Line2D
+from matplotlib.patches import Ellipse, Patch, Rectangle
 
 from .artifacts import find_series, is_number
 from .plotting import (COLORS, fourier_value, force_scale, label, mark_backlash, mark_mesh_periods,
@@ -273,6 +279,302 @@ def pressure_map_caption(line_contact, stretch):
             "same axes and colour scale. The x axis (profile) is stretched against the "
             "y axis (face width) by about %.0f× so that the narrow contact stays visible."
             % stretch)
+
+
+# --------------------------------------------------------------------------------------------
+# Load and design map
+# --------------------------------------------------------------------------------------------
+
+def crowning_label(crowning):
+    pinion, gear = crowning
+    if pinion == 0 and gear == 0:
+        return "uncrowned"
+    if pinion == gear:
+        return "crowning %g µm" % pinion
+    return "crowning %g/%g µm (pinion/gear)" % (pinion, gear)
+
+
+def fmt_number(v):
+    return "%g" % v if v is not None else "?"
+
+
+def edge_contact(cases):
+    return np.array([c.get("face_end_contact_positions", 0) > 0 for c in cases])
+
+
+def map_line(ax, cases, x_key, y, color, text):
+    """y(case) against case[x_key]: a line with filled markers, hollow where the contact reaches
+    a face end at some position of the cycle."""
+    x = np.array([c[x_key] for c in cases], dtype=float)
+    v = np.array([y(c) for c in cases], dtype=float)
+    ax.plot(x, v, "-", color=color, lw=1.4, label=text)
+    edge = edge_contact(cases)
+    ax.plot(x[~edge], v[~edge], "o", ms=5, color=color)
+    ax.plot(x[edge], v[edge], "o", ms=7, mfc="white", mec=color, mew=1.6)
+
+
+def edge_legend(ax, series):
+    """The legend of a map panel, with an "edge contact" entry when a hollow marker is drawn."""
+    handles, labels = ax.get_legend_handles_labels()
+    if any(edge_contact(cases).any() for cases in series.values()):
+        handles.append(Line2D([], [], ls="none", marker="o", ms=7, mfc="white", mec="#333333",
+                              mew=1.6))
+        labels.append("edge contact (face end)")
+    ax.legend(handles, labels, loc="best", frameon=True, framealpha=0.9, edgecolor="#dddddd",
+              fontsize=8.5)
+
+
+def lines_over(axes, series, x_key, quantities):
+    """One line per crowning variant in each panel: quantities[i] is y(case) of axes[i]."""
+    for i, (crowning, cases) in enumerate(series.items()):
+        for ax, y in zip(axes, quantities):
+            map_line(ax, cases, x_key, y, COLORS[i % len(COLORS)], crowning_label(crowning))
+
+
+def percent_axis(ax, cases):
+    """A top axis with the torque in % of the scene's nominal torque."""
+    nominal = cases[0]["torque_Nm"] * 100.0 / cases[0]["torque_percent"]
+    top = ax.secondary_xaxis("top", functions=(lambda t: t * 100.0 / nominal,
+                                               lambda p: p * nominal / 100.0))
+    top.set_xlabel("torque (%% of nominal %.4g N m)" % nominal)
+    return nominal
+
+
+def ste_against_torque(sec, lmap):
+    series = {k: v for k, v in lmap.torque_series().items() if len(v) > 1}
+    if not series:
+        sec.note("The load map has fewer than two torques per crowning variant: the "
+                 "STE-against-torque figure is left out.")
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    lines_over(axes, series, "torque_Nm", (lambda c: c["ste_peak_to_peak_um"],
+                                           lambda c: c["mean_k_total_N_per_m"] * 1e-6))
+    for ax, title, ylabel in (
+            (axes[0], "Peak-to-peak loaded STE", label("STE peak to peak", unit="µm")),
+            (axes[1], "Mean mesh stiffness", label("mean k$_{total}$", unit="N/µm"))):
+        nominal = percent_axis(ax, next(iter(series.values())))
+        ax.set_title(title, loc="left")
+        ax.set_xlabel(label("pinion torque", unit="N m"))
+        ax.set_ylabel(ylabel)
+    edge_legend(axes[0], series)
+    publish(sec, "ste_against_torque.png", fig,
+            "Loaded static transmission error, peak to peak over the mesh cycle (left), and "
+            "the mesh stiffness k<sub>total</sub> averaged over the cycle (right), against the "
+            "pinion torque (top axis: %% of the nominal %.4g N m), one line per lead-crowning "
+            "variant, at the scene's mesh misalignment (%s µm). A hollow marker means the "
+            "contact reaches a face end at one or more positions of the cycle (edge contact)."
+            % (nominal, fmt_number(lmap.scene_misalignment_um)))
+
+
+def mark_face_ends(ax, half_width):
+    if half_width is None:
+        return
+    for i, v in enumerate((half_width, -half_width)):
+        ax.axhline(v, color="#c0392b", lw=1.0, ls="--",
+                   label="face ends ±b/2 = ±%g mm" % half_width if i == 0 else None)
+
+
+def centre_band(ax, series):
+    """The range of the contact centre over the cycle, shaded, for each crowning variant."""
+    for i, cases in enumerate(series.values()):
+        x = [c["mesh_misalignment_um"] for c in cases]
+        ax.fill_between(x, [c["contact_centre_z_min_mm"] for c in cases],
+                        [c["contact_centre_z_max_mm"] for c in cases],
+                        color=COLORS[i % len(COLORS)], alpha=0.18, lw=0)
+
+
+def centre_legend(ax):
+    """Face ends and the meaning of the band; the crowning lines are named in the other panel."""
+    handles = [h for h in ax.get_legend_handles_labels()[0] if "face ends" in h.get_label()]
+    handles.append(Patch(color="#888888", alpha=0.3, lw=0, label="range over the mesh cycle"))
+    ax.legend(handles=handles, loc="best", fontsize=8.5, frameon=True, framealpha=0.9,
+              edgecolor="#dddddd")
+
+
+def mid_centre(case):
+    return 0.5 * (case["contact_centre_z_min_mm"] + case["contact_centre_z_max_mm"])
+
+
+def pressure_centre_against_misalignment(sec, lmap):
+    series = {k: v for k, v in lmap.misalignment_series().items() if len(v) > 1}
+    if not series:
+        sec.note("The load map has no misalignment variants (Stiffness/Map/"
+                 "mesh_misalignment_um): the pressure and contact-centre figure is left out.")
+        return
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.0))
+    lines_over(axes, series, "mesh_misalignment_um",
+               (lambda c: c["max_peak_pressure_MPa"], mid_centre))
+    centre_band(axes[1], series)
+    half = 0.5 * lmap.face_width_mm if lmap.face_width_mm else None
+    mark_face_ends(axes[1], half)
+    if half:
+        axes[1].set_ylim(-1.15 * half, 1.15 * half)
+    axes[0].set_title("Maximum peak pressure over the cycle", loc="left")
+    axes[0].set_ylabel(label("peak contact pressure", unit="MPa"))
+    axes[1].set_title("Contact centre along the face", loc="left")
+    axes[1].set_ylabel(label("contact centre z", unit="mm"))
+    for ax in axes:
+        ax.set_xlabel(label("mesh misalignment f$_{ma}$", unit="µm"))
+    edge_legend(axes[0], series)
+    centre_legend(axes[1])
+    publish(sec, "misalignment_pressure_centre.png", fig,
+            "Sensitivity to mesh misalignment at the nominal torque, one line per "
+            "lead-crowning variant: the highest peak contact pressure of the mesh cycle "
+            "(left) and the position of the contact centre along the face width (right; line: "
+            "middle of its range over the cycle, band: its minimum to maximum; z = 0 is the "
+            "middle of the face, dashed lines the face ends). A hollow marker means edge "
+            "contact at one or more positions of the cycle.")
+
+
+def draw_cells(ax, lmap, cells, norm):
+    """The loaded cells (z, roll, pressure, height) on the flank, coloured by pressure; drawn in
+    rising pressure, so where cells of several positions overlap the highest pressure shows (the
+    envelope)."""
+    if cells is None:
+        ax.text(0.5, 0.5, "no loaded cell", transform=ax.transAxes, ha="center", fontsize=8)
+        return
+    z, roll, pressure, height = cells
+    order = np.argsort(pressure)
+    w = 0.5 * lmap.cell_width_mm()
+    lo, hi = roll - 0.5 * height, roll + 0.5 * height
+    boxes = [((z[i] - w, lo[i]), (z[i] + w, lo[i]), (z[i] + w, hi[i]), (z[i] - w, hi[i]))
+             for i in order]
+    ax.add_collection(PolyCollection(boxes, array=pressure[order], cmap=PATTERN_CMAP, norm=norm,
+                                     edgecolors="face", linewidths=0.2))
+
+
+FACE_END_LINE = dict(color="#1f5fa8", lw=1.0)
+ACTIVE_PROFILE_LINE = dict(color="#2e8b57", lw=1.0, ls="--")
+PATTERN_CMAP = "YlOrRd"
+
+
+def flank_frame(ax, lmap, cells):
+    """The pinion flank: face ends (z = ±b/2) and active profile limits, grey behind the cells;
+    the axes hold the flank and every cell."""
+    half = 0.5 * lmap.face_width_mm if lmap.face_width_mm else None
+    roll = lmap.active_roll_mm
+    if half and roll:
+        ax.add_patch(Rectangle((-half, roll[0]), 2 * half, roll[1] - roll[0], color="#e6e9ee",
+                               lw=0, zorder=0))
+    for v in (-half, half) if half else ():
+        ax.axvline(v, **FACE_END_LINE)
+    for v in roll or ():
+        ax.axhline(v, **ACTIVE_PROFILE_LINE)
+    z_ends = [-half, half] if half else []
+    rolls = list(roll or [])
+    if cells is not None:
+        z, r, _, height = cells
+        z_ends += [np.min(z), np.max(z)]
+        rolls += [np.min(r - 0.5 * height), np.max(r + 0.5 * height)]
+    if z_ends:
+        pad = 0.04 * (max(z_ends) - min(z_ends)) + lmap.cell_width_mm()
+        ax.set_xlim(min(z_ends) - pad, max(z_ends) + pad)
+    if rolls:
+        pad = 0.05 * (max(rolls) - min(rolls))
+        ax.set_ylim(min(rolls) - pad, max(rolls) + pad)
+
+
+def pattern_legend(fig):
+    """The line styles of the flank limits above the panels."""
+    fig.legend([Line2D([], [], **FACE_END_LINE), Line2D([], [], **ACTIVE_PROFILE_LINE)],
+               ["face ends z = ±b/2", "active profile limits (root below, tip above)"],
+               loc="upper left", bbox_to_anchor=(0.0, 1.0), ncol=2, fontsize=8.5)
+    fig.get_layout_engine().set(rect=(0, 0, 1, 1 - 0.32 / fig.get_figheight()))
+
+
+def pattern_layout(n):
+    cols = min(n, 3)
+    rows = int(math.ceil(n / cols))
+    return plt.subplots(rows, cols, figsize=(max(6.0, 3.1 * cols + 1.3), 2.9 * rows + 0.7),
+                        sharex=True, sharey=True, squeeze=False)
+
+
+def pressure_norm(lmap, cases):
+    peaks = [np.max(c[2]) for c in (lmap.cells_of(k) for k in cases) if c is not None]
+    return Normalize(0.0, max(peaks) if peaks else 1.0)
+
+
+def pattern_figure(sec, name, lmap, panels, caption):
+    """Contact patterns of the cases of `panels` [(case, title)] in small multiples with one
+    colour bar."""
+    fig, axes = pattern_layout(len(panels))
+    norm = pressure_norm(lmap, [case for case, _ in panels])
+    for ax, (case, title) in zip(axes.ravel(), panels):
+        ax.grid(False)
+        cells = lmap.cells_of(case)
+        draw_cells(ax, lmap, cells, norm)
+        flank_frame(ax, lmap, cells)
+        peak = ", max %.0f MPa" % np.max(cells[2]) if cells is not None else ""
+        ax.set_title(title + peak, fontsize=9)
+    for ax in axes.ravel()[len(panels):]:
+        ax.set_visible(False)
+    for ax in axes[-1, :]:
+        ax.set_xlabel("z, face width (mm)", fontsize=9)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("pinion roll distance (mm)", fontsize=9)
+    fig.colorbar(ScalarMappable(norm=norm, cmap=PATTERN_CMAP), ax=axes, shrink=0.85,
+                 label="contact pressure (MPa)")
+    pattern_legend(fig)
+    publish(sec, name, fig, caption + PATTERN_CAPTION)
+
+
+PATTERN_CAPTION = (
+    " Each panel is the pinion flank developed flat: the face width z across (z = 0 in the "
+    "middle, solid blue lines at the face ends ±b/2) and the roll distance up, from the root "
+    "to the tip (dashed green lines at the start and end of the active profile; grey the "
+    "active flank). Coloured "
+    "cells are the loaded cells of the FE contact grid (contact_pattern.csv) of every mesh "
+    "position and tooth pair, each showing the highest pressure it reaches in the cycle (the "
+    "pressure envelope); all panels share the colour scale. Cell pressures are those of the "
+    "contact grid and may exceed the Hertzian peak pressure of the other figures.")
+
+
+def pick(items, n=6):
+    """At most n items, evenly spread and keeping the first and the last."""
+    if len(items) <= n:
+        return items
+    return [items[int(round(i))] for i in np.linspace(0, len(items) - 1, n)]
+
+
+def torque_title(case):
+    return "T = %.4g N m (%g %%)" % (case["torque_Nm"], case["torque_percent"])
+
+
+def contact_patterns_over_torque(sec, lmap):
+    series = lmap.torque_series()
+    crowning = lmap.pattern_crowning(series)
+    if crowning is None or lmap.cells is None:
+        sec.note("No contact_pattern.csv or no torque series in the map: the contact patterns "
+                 "at several torques are left out.")
+        return
+    panels = [(int(c["case"]), torque_title(c)) for c in pick(series[crowning])]
+    pattern_figure(sec, "contact_pattern_torque.png", lmap, panels,
+                   "Contact patterns on the pinion flank at %d torque%s, %s, at the scene's mesh "
+                   "misalignment (%s µm)." % (len(panels), "s" if len(panels) > 1 else "",
+                                              crowning_label(crowning),
+                                              fmt_number(lmap.scene_misalignment_um)))
+
+
+def contact_patterns_over_misalignment(sec, lmap):
+    series = lmap.misalignment_series()
+    crowning = lmap.pattern_crowning(series)
+    if crowning is None or lmap.cells is None or len(series[crowning]) < 2:
+        return
+    panels = [(int(c["case"]), "f$_{ma}$ = %g µm" % c["mesh_misalignment_um"])
+              for c in pick(series[crowning])]
+    pattern_figure(sec, "contact_pattern_misalignment.png", lmap, panels,
+                   "Contact patterns on the pinion flank at %d mesh misalignments f<sub>ma</sub>, "
+                   "%s, at the nominal torque: how far misalignment moves the pattern along "
+                   "the face." % (len(panels), crowning_label(crowning)))
+
+
+def contact_pattern_scene(sec, lmap):
+    if lmap.cells_of(-1) is None:
+        sec.note("contact_pattern.csv has no cell of the scene's own cycle (case −1): the "
+                 "contact pattern is left out.")
+        return
+    pattern_figure(sec, "contact_pattern.png", lmap, [(-1, "scene's own mesh cycle")],
+                   "Contact pattern on the pinion flank over the scene's own mesh cycle.")
 
 
 # --------------------------------------------------------------------------------------------

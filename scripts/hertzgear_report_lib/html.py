@@ -92,6 +92,46 @@ def stiffness_json_table(js):
     return "<h3>stiffness.json</h3>" + kv_table(rows[:80]) if rows else ""
 
 
+# (heading, value of a map case): the columns of the map table.
+MAP_COLUMNS = (
+    ("case", lambda c: "%d" % c["case"]),
+    ("torque (N m)", lambda c: "%.4g" % c["torque_Nm"]),
+    ("torque (%)", lambda c: "%g" % c["torque_percent"]),
+    ("crowning pinion/gear (µm)",
+     lambda c: "%g/%g" % (c["pinion_crowning_um"], c["gear_crowning_um"])),
+    ("misalignment f<sub>ma</sub> (µm)", lambda c: "%g" % c["mesh_misalignment_um"]),
+    ("STE p-p (µm)", lambda c: "%.3f" % c["ste_peak_to_peak_um"]),
+    ("mean k<sub>total</sub> (N/µm)", lambda c: "%.1f" % (1e-6 * c["mean_k_total_N_per_m"])),
+    ("max peak pressure (MPa)", lambda c: "%.0f" % c["max_peak_pressure_MPa"]),
+    ("edge-contact positions", lambda c: "%d" % c["face_end_contact_positions"]),
+    ("tip-contact positions", lambda c: "%d" % c["tip_contact_positions"]),
+)
+
+
+def map_cell(case, value):
+    try:
+        return html.escape(value(case))
+    except (KeyError, TypeError, ValueError):
+        return "–"
+
+
+def map_table(cases, n_positions):
+    """The per-case summaries of the load and design map, one row per case, or "" without."""
+    if not cases:
+        return ""
+    head = "".join("<th>%s</th>" % h for h, _ in MAP_COLUMNS)
+    rows = "".join("<tr>%s</tr>" % "".join("<td>%s</td>" % map_cell(c, v) for _, v in MAP_COLUMNS)
+                   for c in cases)
+    positions = "of %d per cycle" % n_positions if n_positions else "per cycle"
+    return ("<details open><summary>Load and design map: %d cases</summary><p>Per case: the "
+            "loaded STE peak to peak and the mean mesh stiffness over the mesh cycle, the highest "
+            "Hertzian peak pressure, and at how many mesh positions (%s) the contact reaches a "
+            "face end or the tip. The torque cases come first (each crowning variant at every "
+            "torque), then the misalignment cases (each crowning variant at every "
+            "misalignment, nominal torque).</p><table class=\"data\"><thead><tr>%s</tr></thead>"
+            "<tbody>%s</tbody></table></details>" % (len(cases), positions, head, rows))
+
+
 def csv_table(table):
     head = "".join("<th>%s</th>" % html.escape(n) for n in table.names)
     rows = ""

@@ -11,9 +11,9 @@ import traceback
 import matplotlib
 
 from . import figures
-from .artifacts import (Scene, Table, remove_stale_temporaries, samples_table,
+from .artifacts import (LoadMap, Scene, Table, remove_stale_temporaries, samples_table,
                         write_text_atomically)
-from .html import (Page, csv_details, dynamics_facts, render_page, scene_tables,
+from .html import (Page, csv_details, dynamics_facts, map_table, render_page, scene_tables,
                    stiffness_json_table, summary_table)
 from .plotting import close_all, style
 
@@ -50,8 +50,32 @@ class Report:
         self.attempt(sec, "STE and load sharing figure", figures.ste_load_sharing, table)
         self.attempt(sec, "contact figure", figures.contact_per_position, table)
         self.attempt(sec, "contact ellipse map", figures.contact_pressure_map, self.scene, table)
+        self.attempt(sec, "load and design map", self.load_map)
         if isinstance(js, dict):
             sec.add(stiffness_json_table(js))
+
+    def load_map(self, sec):
+        """The figures and table of the load and design map, or the scene's own contact pattern
+        when the run has no map."""
+        lmap = LoadMap(self.art, self.scene)
+        if not lmap.cases:
+            sec.note("No load and design map in this run (stiffness_map.csv, written when the "
+                     "scene sets Stiffness/Map): the figures over torque and misalignment are "
+                     "left out.")
+            if lmap.cells is None:
+                sec.note("No contact_pattern.csv in this run: the contact pattern on the flank "
+                         "is left out.")
+            else:
+                self.attempt(sec, "contact pattern", figures.contact_pattern_scene, lmap)
+            return
+        self.attempt(sec, "STE-against-torque figure", figures.ste_against_torque, lmap)
+        self.attempt(sec, "misalignment figure", figures.pressure_centre_against_misalignment,
+                     lmap)
+        self.attempt(sec, "contact patterns at several torques",
+                     figures.contact_patterns_over_torque, lmap)
+        self.attempt(sec, "contact patterns at several misalignments",
+                     figures.contact_patterns_over_misalignment, lmap)
+        sec.add(map_table(lmap.cases, lmap.n_positions))
 
     def dynamics_section(self):
         sec = self.page.section("dynamics", "Gear-pair dynamics")

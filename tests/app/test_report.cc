@@ -103,8 +103,12 @@ TEST(Report, NestedRunGivesEveryFigure)
        {"stiffness_cycle.png", "ste_load_sharing.png", "contact_per_position.png",
         "contact_pressure_map.png", "dte_penetration.png", "mesh_force.png", "poincare.png",
         "phase_portrait.png", "force_penetration.png", "spectrum.png", "sweep_rms.png",
-        "bifurcation.png", "accuracy_1.png"})
+        "bifurcation.png", "accuracy_1.png", "ste_against_torque.png",
+        "misalignment_pressure_centre.png", "contact_pattern_torque.png",
+        "contact_pattern_misalignment.png"})
     EXPECT_EQ(on_page.count(expected), 1u) << expected << " missing from the page";
+  // The load and design map is tabulated per case.
+  EXPECT_THAT(html, HasSubstr("Load and design map: 14 cases"));
 
   // Every figure has a caption; the scene's effects and the summary are tabulated.
   const std::regex figure_without_caption(R"(<figure><img[^>]*></figure>)");

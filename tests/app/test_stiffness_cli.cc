@@ -4,6 +4,7 @@
 
 #include "tests/support/run_command.h"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include <gmock/gmock.h>
@@ -40,7 +41,8 @@ TEST(StiffnessCli, WritesTheContractColumnsAndATableTheDynamicsReads)
   std::getline(csv, header);
   EXPECT_EQ(header, "position,mesh_phase,ste_um,k_total_N_per_m,k_hertz,k_rest_N_per_m,"
                     "pairs_in_contact,load_share_1,load_share_2,hertz_penetration_um,"
-                    "contact_a_mm,contact_b_mm,peak_pressure_MPa");
+                    "contact_a_mm,contact_b_mm,peak_pressure_MPa,k_total_tangent_N_per_m,"
+                    "contact_centre_z_mm,face_end_contact,tip_contact");
   int n_rows = 0;
   for (std::string line; std::getline(csv, line); ++n_rows)
     {
@@ -48,7 +50,7 @@ TEST(StiffnessCli, WritesTheContractColumnsAndATableTheDynamicsReads)
       std::stringstream   ss(line);
       for (std::string cell; std::getline(ss, cell, ',');)
         v.push_back(std::stod(cell));
-      ASSERT_EQ(v.size(), 13u) << line;
+      ASSERT_EQ(v.size(), 17u) << line;
       // Load shares sum to 1: the contact solver balances the load to round-off; the CSV keeps
       // 10 significant digits.
       EXPECT_NEAR(v[7] + v[8], 1.0, 1e-9) << line;
@@ -83,16 +85,130 @@ TEST(StiffnessCli, LoadsAndSettingsItCannotAnalyseExitTwo)
     {" --set Operating/torque_Nm=-5", "\"-5\" for Operating/torque_Nm"},
     {" --set Stiffness/table_roll_nodes=1", "table_roll_nodes = 1"},
     {" --set Stiffness/linear_solver=amg-cg", "full-gear body model"},
+    // The load and design map and the micro-geometry (docs/user-guide.md).
+    {" --set Stiffness/Map/torque_percent=50,0", "Stiffness/Map/torque_percent = 0"},
+    {" --set Stiffness/Map/torque_percent=-10", "Stiffness/Map/torque_percent = -10"},
+    {" --set Stiffness/Map/mesh_misalignment_um=20", "need Stiffness/fe_dimension = 3"},
+    {" --set Stiffness/source=iso6336 --set Stiffness/Map/torque_percent=50",
+     "needs the contact analysis of Stiffness/source = fem"},
+    {" --set Operating/mesh_misalignment_um=150", "the pair jams"},
+    {" --set Operating/axis_deviation_um=-130", "Operating/axis_deviation_um cos(alpha_w)"},
+    {" --set 'Gear pair/Pinion/tip_relief_um=10' --set 'Gear pair/Pinion/tip_relief_length_mm=7'"
+     " --set 'Gear pair/Pinion/root_relief_um=10' --set 'Gear pair/Pinion/root_relief_length_mm=8'",
+     "root relief length 8 mm are larger than the flank allows"},
+    {" --set 'Gear pair/Gear/lead_end_relief_um=10' --set 'Gear pair/Gear/lead_end_relief_length_mm=12'",
+     "lead end relief length 12 mm is larger than the flank allows"},
   };
   for (const auto &c : cases)
     {
-      const fs::path out = fresh_temp_dir("stiffness_bad");
+      const fs::path out = fresh_temp_dir("stiffness_bad") / "run";
       const auto     r   = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse +
                                    c.set + " --out " + out.string());
       EXPECT_EQ(r.exit_code, 2) << c.set << "\n" << r.err;
       EXPECT_THAT(r.err, HasSubstr(c.expected)) << c.set;
-      EXPECT_FALSE(fs::exists(out / "stiffness.csv")) << c.set;
+      EXPECT_FALSE(fs::exists(out)) << c.set << ": nothing is created for refused input";
+      // `check` refuses what the command refuses.
+      const auto checked = run_hertzgear("check " + scene_path("paper_uncrowned.prm") + coarse + c.set);
+      EXPECT_EQ(checked.exit_code, 2) << "check" << c.set << "\n" << checked.err;
     }
+}
+
+namespace
+{
+  // The rows of a stiffness CSV as text (header dropped), optionally of one map case, without
+  // the map's leading case columns.
+  std::vector<std::string> csv_rows(const fs::path &file, const int map_case = -1)
+  {
+    std::istringstream       in(slurp(file));
+    std::vector<std::string> rows;
+    std::string              line;
+    std::getline(in, line);
+    while (std::getline(in, line))
+      {
+        if (map_case < 0)
+          {
+            rows.push_back(line);
+            continue;
+          }
+        std::size_t at = 0;
+        for (int k = 0; k < 7; ++k) // case, torque, percent, load, two crownings, misalignment
+          at = line.find(',', at) + 1;
+        if (std::stoi(line.substr(0, line.find(','))) == map_case)
+          rows.push_back(line.substr(at));
+      }
+    return rows;
+  }
+
+  double column(const std::string &row, const int index)
+  {
+    std::stringstream ss(row);
+    std::string       cell;
+    for (int k = 0; k <= index; ++k)
+      std::getline(ss, cell, ',');
+    return std::stod(cell);
+  }
+} // namespace
+
+TEST(StiffnessCli, AMapRowEqualsTheSingleTorqueRunAndItsStructuralApproachIsLinear)
+{
+  // Requirements: (1) a torque of the map gives the rows a single-torque run at that torque
+  // gives: the same contact problem on the same bodies, so the same numbers (the text of every
+  // column identical, i.e. equal within the CSV's 10 significant digits, tighter than 1e-10
+  // relative in fact since the doubles are the same); (2) doubling the torque on the unmodified
+  // line contact doubles the structural part of the approach, STE minus the Hertzian
+  // penetration: the FE compliance is linear, and what remains non-linear is the contact
+  // half-width a (~ sqrt(F)) over which the pressure meets the structural compliance read at
+  // depth d, a relative effect bounded by (a / d)^2 at the larger load.
+  const fs::path map = fresh_temp_dir("stiffness_map");
+  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse +
+                               " --set Stiffness/Map/torque_percent=50,100,200 --out " + map.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("map 3/3  torque 420 N m (200 %)"));
+  const fs::path single = fresh_temp_dir("stiffness_map_single");
+  const auto     s      = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse +
+                               " --set Operating/torque_Nm=105 --out " + single.string());
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+
+  EXPECT_EQ(csv_rows(map / "stiffness_map.csv", 0), csv_rows(single / "stiffness.csv"));
+  EXPECT_EQ(csv_rows(map / "stiffness_map.csv", 1), csv_rows(map / "stiffness.csv"));
+
+  const auto   json  = nlohmann::json::parse(slurp(map / "stiffness.json"));
+  const double depth = json.at("fe").at("reference_depth_mm").get<double>();
+  ASSERT_EQ(json.at("map").size(), 3u);
+  const auto once = csv_rows(map / "stiffness_map.csv", 1), twice = csv_rows(map / "stiffness_map.csv", 2);
+  ASSERT_EQ(once.size(), 5u);
+  ASSERT_EQ(twice.size(), 5u);
+  for (std::size_t i = 0; i < once.size(); ++i)
+    {
+      // columns: 2 ste_um, 9 hertz_penetration_um, 10 contact_a_mm
+      const double structural_once  = column(once[i], 2) - column(once[i], 9);
+      const double structural_twice = column(twice[i], 2) - column(twice[i], 9);
+      const double a                = column(twice[i], 10);
+      EXPECT_NEAR(structural_twice / structural_once, 2.0, 2.0 * (a / depth) * (a / depth)) << once[i];
+    }
+}
+
+TEST(StiffnessCli, AContactThatReachesAFaceEndIsReportedNotRefused)
+{
+  // Requirement: edge contact is a result, not an error: an uncrowned 3D pair carries load at
+  // both face ends; the run succeeds, prints a warning line and sets face_end_contact, while the
+  // scene's crowned cycle stays clear of the face ends.
+  const fs::path out = fresh_temp_dir("stiffness_face_end");
+  const auto     r   = run_hertzgear(
+    "stiffness " + scene_path("paper_crowned.prm") +
+    " --set Stiffness/fe_level=0 --set Stiffness/fe_degree=1 --set Stiffness/positions_per_cycle=3"
+    " --set Stiffness/harmonics=1 --set Output/write_fields=false"
+    " --set Stiffness/Map/crowning_um=0 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("warning: map 1: the contact reaches a face end at 3 of 3 positions"));
+  for (const auto &row : csv_rows(out / "stiffness_map.csv", 0))
+    EXPECT_EQ(column(row, 15), 1.0) << row; // face_end_contact
+  for (const auto &row : csv_rows(out / "stiffness.csv"))
+    EXPECT_EQ(column(row, 15), 0.0) << row;
+  const auto json = nlohmann::json::parse(slurp(out / "stiffness.json"));
+  EXPECT_EQ(json.at("map").at(0).at("face_end_contact_positions").get<int>(), 3);
+  EXPECT_EQ(json.at("contact").at("face_end_contact_positions").get<int>(), 0);
+  EXPECT_TRUE(fs::exists(out / "contact_pattern.csv"));
 }
 
 TEST(StiffnessCli, AFullGearBeyondTheMemoryLimitStopsBeforeItsFactorisation)
@@ -298,7 +414,8 @@ TEST(StiffnessCli, PotentialEnergySourceSharesTheLoadByCompatibility)
       std::stringstream        ls(line);
       for (std::string c; std::getline(ls, c, ',');)
         f.push_back(c);
-      ASSERT_EQ(f.size(), 13u) << line;
+      // 17 columns; the contact-analysis ones (tangent, centre, edge flags) are left empty.
+      ASSERT_EQ(std::count(line.begin(), line.end(), ','), 16) << line;
       const int    pairs = std::stoi(f[6]);
       const double s1 = std::stod(f[7]), s2 = std::stod(f[8]);
       EXPECT_NEAR(s1 + s2, 1.0, 1e-9) << line;

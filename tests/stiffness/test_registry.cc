@@ -48,12 +48,14 @@ TEST(StiffnessWriter, OneRowPerPositionAndEmptyColumnsForWhatIsNotComputed)
   std::getline(in, header);
   EXPECT_EQ(header, "position,mesh_phase,ste_um,k_total_N_per_m,k_hertz,k_rest_N_per_m,"
                     "pairs_in_contact,load_share_1,load_share_2,hertz_penetration_um,"
-                    "contact_a_mm,contact_b_mm,peak_pressure_MPa");
+                    "contact_a_mm,contact_b_mm,peak_pressure_MPa,k_total_tangent_N_per_m,"
+                    "contact_centre_z_mm,face_end_contact,tip_contact");
   int rows = 0;
   while (std::getline(in, line))
     {
       ++rows;
       EXPECT_NE(line.find(",,,,"), std::string::npos) << "pairs and shares left empty: " << line;
+      EXPECT_EQ(line.substr(line.size() - 4), ",,,,") << "contact columns left empty: " << line;
     }
   EXPECT_EQ(rows, 16);
   const auto json = stiffness_json(r);

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Synthetic TEST DATA for the hertzgear report: artifacts in the column contract of the
 stiffness, dynamics, sweep and accuracy commands, made from closed-form signals (a sinusoidal DTE
-with a subharmonic, a cosine stiffness), not from any solver. Only the report is tested with it.
+with a subharmonic, a cosine stiffness, an elliptical contact pattern that grows with load and
+shifts with misalignment), not from any solver. Only the report is tested with it.
 
     make_report_artifacts.py DIR [--layout flat|nested] [--only dynamics|stiffness]
 """
@@ -53,6 +54,7 @@ def stiffness(folder):
               ["position", "mesh_phase", "ste_um", "k_total_N_per_m", "k_hertz", "k_rest_N_per_m",
                "pairs_in_contact", "load_share_1", "load_share_2", "hertz_penetration_um",
                "contact_a_mm", "contact_b_mm", "peak_pressure_MPa"], rows)
+    summaries, contact = load_map(folder, rows)
     write_json(os.path.join(folder, "stiffness.json"), {
         "schema": "hertzgear-stiffness-table/1",
         "source": "synthetic test data",
@@ -61,7 +63,113 @@ def stiffness(folder):
         "k_hertz_N_per_m_pow_n": {"mean": 9.0e9, "amplitudes": [2.0e9, 0.0], "phases_rad": [0.2, 0.0]},
         "k_rest_N_per_m": {"mean": 2.79e8, "amplitudes": [0.3e8, 0.0], "phases_rad": [0.0, 0.0]},
         "k_total_N_per_m": {"mean": 3.0e8, "amplitudes": [0.6e8, 0.1e8], "phases_rad": [0.0, 0.4]},
+        "map": summaries,
+        "contact": contact,
     })
+
+
+# The load and design map of a stiffness run (stiffness_map.csv, stiffness.json "map" and
+# "contact", contact_pattern.csv): a crowned and an uncrowned variant over torque and misalignment.
+FACE_WIDTH_MM = 20.0
+ACTIVE_ROLL_MM = (4.7, 18.5)
+BASE_PITCH_MM = 8.0
+TORQUE_NM = 210.0
+MAP_HEADER = ["case", "torque_Nm", "torque_percent", "load_N", "pinion_crowning_um",
+              "gear_crowning_um", "mesh_misalignment_um", "position", "mesh_phase", "ste_um",
+              "k_total_N_per_m", "k_hertz", "k_rest_N_per_m", "pairs_in_contact", "load_share_1",
+              "load_share_2", "hertz_penetration_um", "contact_a_mm", "contact_b_mm",
+              "peak_pressure_MPa", "k_total_tangent_N_per_m", "contact_centre_z_mm",
+              "face_end_contact", "tip_contact"]
+
+
+def map_cases():
+    """(crowning µm, torque %, misalignment µm): every torque of each crowning variant, then
+    every misalignment of each at 100 %."""
+    cases = [(c, t, 0.0) for c in (0.0, 40.0) for t in (25.0, 50.0, 100.0, 150.0)]
+    return cases + [(c, 100.0, m) for c in (0.0, 40.0) for m in (-30.0, 0.0, 30.0)]
+
+
+def contact_band(crowning, percent, misalignment):
+    """(centre z, half length along the face, peak pressure) of the synthetic contact: the
+    uncrowned one spans the face, the crowned one grows with load; misalignment shifts it."""
+    half = FACE_WIDTH_MM / 2
+    length = half if crowning == 0 else min(half, 3.0 + 2.0 * math.sqrt(percent / 100.0))
+    centre = -misalignment / 30.0 * (1.5 if crowning else 4.0)
+    return centre, length, 1200.0 * math.sqrt(percent / 100.0) * (1 + abs(misalignment) / 60.0)
+
+
+def map_rows(case, variant, stiffness_rows):
+    crowning, percent, misalignment = variant
+    centre, length, p0 = contact_band(crowning, percent, misalignment)
+    scale = percent / 100.0
+    edge = int(abs(centre) + length >= FACE_WIDTH_MM / 2 - 1e-9)
+    rows = []
+    for r in stiffness_rows:
+        soft = 1.0 + crowning / 100.0
+        rows.append([case, TORQUE_NM * scale, percent, F0_N * scale, crowning, crowning,
+                     misalignment, r[0], r[1], r[2] * scale * soft, r[3] / soft, r[4], r[5] / soft,
+                     r[6], r[7], r[8], r[9] * scale, r[10], length, p0 * (1 + 0.1 * (r[6] == 1)),
+                     1.1 * r[3] / soft, centre, edge, int(r[0] == 0)])
+    return rows
+
+
+def map_summary(rows):
+    column = {name: np.array([r[i] for r in rows], dtype=float)
+              for i, name in enumerate(MAP_HEADER)}
+    summary = {k: float(column[k][0]) for k in MAP_HEADER[:7]}
+    summary["case"] = int(summary["case"])
+    summary.update({
+        "ste_peak_to_peak_um": float(np.ptp(column["ste_um"])),
+        "mean_ste_um": float(np.mean(column["ste_um"])),
+        "mean_k_total_N_per_m": float(np.mean(column["k_total_N_per_m"])),
+        "mean_k_rest_N_per_m": float(np.mean(column["k_rest_N_per_m"])),
+        "max_peak_pressure_MPa": float(np.max(column["peak_pressure_MPa"])),
+        "contact_centre_z_min_mm": float(np.min(column["contact_centre_z_mm"])),
+        "contact_centre_z_max_mm": float(np.max(column["contact_centre_z_mm"])),
+        "face_end_contact_positions": int(np.sum(column["face_end_contact"])),
+        "tip_contact_positions": int(np.sum(column["tip_contact"])),
+        "contact_time_s": 0.01})
+    return summary
+
+
+def pattern_cells(case, variant, n_pos):
+    """Loaded contact-grid cells on the pinion flank: three cells across the profile around each
+    pair's contact line, sixteen across the face."""
+    centre, length, p0 = contact_band(*variant)
+    cells = []
+    for position in range(n_pos):
+        for pair in (0, 1):
+            line = ACTIVE_ROLL_MM[0] + 0.2 + (position / n_pos + pair) * BASE_PITCH_MM
+            if line > ACTIVE_ROLL_MM[1] - 0.2:
+                continue
+            for dr in (-0.2, 0.0, 0.2):
+                for z in (np.arange(16) + 0.5) * FACE_WIDTH_MM / 16 - FACE_WIDTH_MM / 2:
+                    u = 1 - ((z - centre) / length) ** 2
+                    if u > 0:
+                        cells.append([case, position, pair, line + dr, z,
+                                      p0 * math.sqrt(u) * (1 - 2 * dr * dr / 0.09)])
+    return cells
+
+
+def load_map(folder, stiffness_rows):
+    """stiffness_map.csv and contact_pattern.csv; returns stiffness.json's "map" and "contact"."""
+    rows, summaries, cells = [], [], []
+    for case, variant in enumerate(map_cases()):
+        case_rows = map_rows(case, variant, stiffness_rows)
+        rows += case_rows
+        summaries.append(map_summary(case_rows))
+        cells += pattern_cells(case, variant, len(stiffness_rows))
+    scene = (40.0, 100.0, 0.0)
+    contact = {k: v for k, v in map_summary(map_rows(-1, scene, stiffness_rows)).items()
+               if k not in MAP_HEADER[:7]}
+    contact.update({"pinion_active_roll_min_mm": ACTIVE_ROLL_MM[0],
+                    "pinion_active_roll_max_mm": ACTIVE_ROLL_MM[1],
+                    "face_width_mm": FACE_WIDTH_MM})
+    write_csv(os.path.join(folder, "stiffness_map.csv"), MAP_HEADER, rows)
+    write_csv(os.path.join(folder, "contact_pattern.csv"),
+              ["case", "position", "pair", "pinion_roll_mm", "z_mm", "pressure_MPa"],
+              pattern_cells(-1, scene, len(stiffness_rows)) + cells)
+    return summaries, contact
 
 
 def dte(t):

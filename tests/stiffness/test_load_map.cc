@@ -1,0 +1,75 @@
+// Requirements on the cases of the load and design map (stiffness/load_map.h): their order and
+// values, and the refusal of a map the contact analysis cannot run, before any work.
+#include "common/errors.h"
+#include "stiffness/load_map.h"
+#include "tests/stiffness/stiffness_fixtures.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+using namespace hertzgear;
+using namespace hertzgear::stiffness;
+using ::testing::HasSubstr;
+
+TEST(LoadMap, TorquesRunWithEveryCrowningThenMisalignmentsAtTheScenesTorque)
+{
+  // Requirement: every torque with every crowning variant (crowning outer, so that a crowning's
+  // STE-against-torque curve is contiguous), then every misalignment at 100 % with every
+  // crowning; a crowning variant crowns both gears, and without one each keeps its own.
+  auto in                = test_pairs::paper_pair(0.080);
+  in.fe.dimension        = 3;
+  in.torque_map_percent  = {50, 200};
+  in.crowning_map_mm     = {0.0, 0.020};
+  in.misalignment_map_mm = {-0.010};
+  const auto cases       = map_cases(in);
+  ASSERT_EQ(cases.size(), 6u);
+  const double expected[6][3] = {{105, 0, 0}, {420, 0, 0}, {105, 0.020, 0}, {420, 0.020, 0},
+                                 {210, 0, -0.010}, {210, 0.020, -0.010}};
+  for (std::size_t c = 0; c < cases.size(); ++c)
+    {
+      EXPECT_DOUBLE_EQ(cases[c].torque_Nm, expected[c][0]) << c;
+      EXPECT_DOUBLE_EQ(cases[c].pinion_crowning_mm, expected[c][1]) << c;
+      EXPECT_DOUBLE_EQ(cases[c].gear_crowning_mm, expected[c][1]) << c;
+      EXPECT_DOUBLE_EQ(cases[c].mesh_misalignment_mm, expected[c][2]) << c;
+      const auto pair = map_case_pair(in, cases[c]);
+      EXPECT_DOUBLE_EQ(pair.gear.crowning_mm, expected[c][1]) << c;
+      EXPECT_DOUBLE_EQ(pair.mesh_misalignment_mm, expected[c][2]) << c;
+    }
+  in.crowning_map_mm.clear();
+  in.misalignment_map_mm.clear();
+  for (const auto &c : map_cases(in))
+    EXPECT_DOUBLE_EQ(c.pinion_crowning_mm, 0.080);
+  EXPECT_TRUE(map_cases(test_pairs::paper_pair()).empty());
+}
+
+TEST(LoadMap, AMapItCannotRunIsRefusedNamingItsField)
+{
+  // Requirement: a non-positive torque, a variant along the face in 2D, and a variant the pair
+  // cannot take are ParameterErrors naming the map's field.
+  const auto refused = [](const StiffnessInput &in) -> std::string {
+    try
+      {
+        check_map(in);
+      }
+    catch (const ParameterError &e)
+      {
+        return e.parameter() + ": " + e.text();
+      }
+    return "";
+  };
+  auto in               = test_pairs::paper_pair();
+  in.fe.dimension       = 3;
+  in.torque_map_percent = {100, 0};
+  EXPECT_THAT(refused(in), HasSubstr("torque_map_percent: 0: every torque of the map must be positive"));
+  in.torque_map_percent  = {100};
+  in.misalignment_map_mm = {0.2}; // above the 117 um backlash
+  EXPECT_THAT(refused(in), HasSubstr("misalignment_map_mm: 200 um: shaft misalignment"));
+  in.misalignment_map_mm = {};
+  in.crowning_map_mm     = {0.9}; // leaves no top land
+  EXPECT_THAT(refused(in), HasSubstr("crowning_map_mm: 900 um"));
+  in.fe.dimension = 2;
+  in.crowning_map_mm = {0.01};
+  EXPECT_THAT(refused(in), HasSubstr("need {dimension} = 3"));
+  in.crowning_map_mm = {};
+  EXPECT_EQ(refused(in), "");
+}
