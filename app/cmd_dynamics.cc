@@ -43,6 +43,13 @@ namespace hertzgear
     j["contact_losses_per_period"]  = s.contact_losses_per_period;
     j["backside_impacts"]           = s.backside_impacts;
     j["period_multiplicity"]        = s.period_multiplicity;
+    // How the period was decided (dynamics/analysis.h, detect_period): "period-k", "not settled"
+    // (with the nearest period, the contraction per mesh period and the distance from it relative
+    // to the DTE scale, all estimated from the Poincare section) or "aperiodic".
+    j["period_status"]              = s.period_status;
+    j["period_candidate"]           = s.period_candidate;
+    j["period_contraction_per_period"] = s.period_contraction;
+    j["period_distance_relative"]   = s.period_distance;
     j["max_penetration_um"]         = 1e6 * s.max_penetration_m;
     j["impacts"]                    = s.n_impacts;
     j["mean_energy_dissipated_per_impact_J"] = s.mean_energy_per_impact_J;

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 namespace hertzgear::dynamics
 {
@@ -63,27 +65,95 @@ namespace hertzgear::dynamics
           progress(done, settings.periods);
       }
     result.final_state = y;
+    result.relative_tolerance = settings.integrator.relative_tolerance;
     result.stats       = integrator->stats();
     return result;
+  }
+
+  PeriodDetection detect_period(const std::vector<PoincarePoint> &p, const double x_scale,
+                                const double v_scale, const double tol, const int max_k)
+  {
+    PeriodDetection out;
+    out.tolerance = tol;
+    // Differences far below the tolerance are equal: the logarithm is floored there, so that
+    // rounding-level differences neither break the fit nor count as a trend.
+    const double floor = 1e-3 * tol;
+    double       best_distance = std::numeric_limits<double>::infinity();
+    bool         any_checked   = false;
+    for (int k = 1; k <= max_k; ++k)
+      {
+        const int n_check = 2 * k + 8;
+        if (int(p.size()) < n_check + k)
+          break;
+        any_checked = true;
+        std::vector<double> d(n_check);
+        for (int i = 0; i < n_check; ++i)
+          {
+            const int j = int(p.size()) - n_check - k + i;
+            d[i]        = std::max(std::abs(p[j + k].dte_m - p[j].dte_m) / x_scale,
+                                   std::abs(p[j + k].dte_rate_m_per_s - p[j].dte_rate_m_per_s) / v_scale);
+          }
+        // log d_i = a + i log r by least squares; the residual says whether there is a trend.
+        double si = 0, sl = 0, sii = 0, sil = 0;
+        for (int i = 0; i < n_check; ++i)
+          {
+            const double l = std::log(std::max(d[i], floor));
+            si += i;
+            sl += l;
+            sii += double(i) * i;
+            sil += i * l;
+          }
+        const double slope = (n_check * sil - si * sl) / (n_check * sii - si * si);
+        const double icept = (sl - slope * si) / n_check;
+        double       rss   = 0.0;
+        for (int i = 0; i < n_check; ++i)
+          {
+            const double e = std::log(std::max(d[i], floor)) - icept - slope * i;
+            rss += e * e;
+          }
+        // A geometric trend when the differences follow C r^i within about 30 %.
+        const bool   trend  = std::sqrt(rss / n_check) <= 0.25;
+        const double r      = std::exp(slope);
+        const double d_last = d.back();
+        double       max_d  = 0.0;
+        for (const double v : d)
+          max_d = std::max(max_d, v);
+        double distance = max_d; // no trend: the differences themselves
+        if (trend && max_d > floor)
+          {
+            const double rk = std::pow(r, k);
+            distance = rk < 1.0 ? d_last * rk / (1.0 - rk) : std::numeric_limits<double>::infinity();
+          }
+        if (d_last <= tol && distance <= tol)
+          {
+            out.multiplicity = k;
+            out.candidate    = k;
+            out.contraction  = trend && max_d > floor ? r : 0.0;
+            out.distance     = distance;
+            out.status       = "period-" + std::to_string(k);
+            return out;
+          }
+        if (trend && r < 1.0 && distance < best_distance)
+          {
+            best_distance   = distance;
+            out.candidate   = k;
+            out.contraction = r;
+            out.distance    = distance;
+          }
+      }
+    out.status = !any_checked ? "too few periods" : out.candidate > 0 ? "not settled" : "aperiodic";
+    return out;
+  }
+
+  double period_settle_tolerance(const double relative_tolerance)
+  {
+    return std::max(1e3 * relative_tolerance, 1e-12);
   }
 
   int period_multiplicity(const std::vector<PoincarePoint> &p, const double x_scale,
                           const double v_scale, const double relative_tolerance, const int max_k)
   {
-    const double tol_x = relative_tolerance * x_scale, tol_v = relative_tolerance * v_scale;
-    for (int k = 1; k <= max_k; ++k)
-      {
-        const int n_check = 2 * k + 8;
-        if (int(p.size()) < n_check + k)
-          return 0;
-        bool periodic = true;
-        for (int j = int(p.size()) - n_check - k; j + k < int(p.size()) && periodic; ++j)
-          periodic = std::abs(p[j + k].dte_m - p[j].dte_m) <= tol_x &&
-                     std::abs(p[j + k].dte_rate_m_per_s - p[j].dte_rate_m_per_s) <= tol_v;
-        if (periodic)
-          return k;
-      }
-    return 0;
+    return detect_period(p, x_scale, v_scale, relative_tolerance, max_k).multiplicity;
   }
 
   std::vector<ImpactLoop> force_penetration_loops(const SimulationResult &r)
@@ -169,7 +239,14 @@ namespace hertzgear::dynamics
     const double level   = std::max(std::abs(sum.max_dte_m), std::abs(sum.min_dte_m));
     const double x_scale = std::max(sum.max_dte_m - sum.min_dte_m, 1e-2 * level);
     const double v_scale = std::max(max_rate, x_scale / r.mesh_period_s);
-    sum.period_multiplicity = period_multiplicity(r.poincare, x_scale, v_scale);
+    const PeriodDetection period = detect_period(
+      r.poincare, x_scale, v_scale,
+      period_settle_tolerance(r.relative_tolerance > 0.0 ? r.relative_tolerance : 1e-8));
+    sum.period_multiplicity = period.multiplicity;
+    sum.period_status       = period.status;
+    sum.period_candidate    = period.candidate;
+    sum.period_contraction  = period.contraction;
+    sum.period_distance     = period.distance;
     const auto loops              = force_penetration_loops(r);
     sum.n_impacts                 = loops.size();
     for (const auto &l : loops)

@@ -50,6 +50,7 @@ namespace hertzgear::dynamics
     std::vector<PoincarePoint> poincare; // one per mesh period of the steady window, and its end
     std::vector<double>        final_state;
     IntegratorStats            stats;
+    double                     relative_tolerance = 0.0; // the integrator's (period detection)
   };
 
   // Progress: called after each chunk with (periods done, periods in all).
@@ -84,7 +85,13 @@ namespace hertzgear::dynamics
     double contact_loss_fraction = 0.0;
     double contact_losses_per_period = 0.0;
     int    backside_impacts      = 0;
-    int    period_multiplicity   = 0; // 1..8, 0 aperiodic
+    int    period_multiplicity   = 0; // 1..8 when settled; 0 aperiodic or not settled
+    // "period-k", "not settled" or "aperiodic" (PeriodDetection); when not settled, the nearest
+    // period and the estimates that decided it.
+    std::string period_status;
+    int    period_candidate           = 0;
+    double period_contraction         = 0.0; // per mesh period, estimated from the section
+    double period_distance            = 0.0; // estimated distance from the limit, / scale
     double mean_energy_per_impact_J = 0.0;
     int    n_impacts             = 0;
   };
@@ -93,13 +100,40 @@ namespace hertzgear::dynamics
                                      min_dte_m, max_dte_m, mean_force_N, max_force_N, min_force_N,
                                      static_force_N, dynamic_factor, max_penetration_m,
                                      contact_loss_fraction, contact_losses_per_period,
-                                     backside_impacts, period_multiplicity,
+                                     backside_impacts, period_multiplicity, period_status,
+                                     period_candidate, period_contraction, period_distance,
                                      mean_energy_per_impact_J, n_impacts)
 
-  // Smallest k in 1..max_k with |x_{j+k} - x_j| <= relative_tolerance * x_scale and
-  // |x'_{j+k} - x'_j| <= relative_tolerance * v_scale over the last 2k + 8 points of the section
-  // (at least two repetitions of the pattern), 0 (aperiodic) if none. The scales are the
-  // peak-to-peak DTE and the largest |x'| of the steady motion.
+  // Period-k detection from the convergence of the Poincare section, not from the size of its
+  // differences alone. For k = 1..max_k, the k-step differences
+  //   d_j = max(|x_{j+k} - x_j| / x_scale, |x'_{j+k} - x'_j| / v_scale)
+  // over the last 2k + 8 points are fitted by d_j ~ C r^j (least squares on log d_j): r is the
+  // contraction per mesh period towards a period-k motion, and the last point's distance from it
+  // is at most about D = d_last r^k / (1 - r^k), the geometric tail. A motion is settled period-k when
+  // every d_j is at most `settle_tolerance`, or when d_last and D are (r < 1). A slowly decaying
+  // transient, such as a Floquet multiplier of -0.998 alternating the points, has small 2-step
+  // differences but r^2 ~ 0.996 and D ~ 250 d_last: it is not settled. The smallest settled k is
+  // the multiplicity; without one, the contracting k with the smallest D is the candidate
+  // ("not settled"), and "aperiodic" when none contracts.
+  struct PeriodDetection
+  {
+    int         multiplicity = 0; // settled k, 0 otherwise
+    int         candidate    = 0; // the nearest period-k when not settled (0: none contracts)
+    double      contraction  = 0.0; // r, per mesh period, of the candidate or the settled k
+    double      distance     = 0.0; // D / scale of the candidate or the settled k
+    double      tolerance    = 0.0; // settle_tolerance used
+    std::string status;             // "period-k", "not settled" or "aperiodic"
+  };
+  PeriodDetection detect_period(const std::vector<PoincarePoint> &section, double x_scale,
+                                double v_scale, double settle_tolerance, int max_k = 8);
+
+  // The settle tolerance of detect_period for an integration at relative tolerance rtol: the
+  // Poincare points of a settled motion repeat to their integration error, measured at 10 to 100
+  // rtol of the peak-to-peak DTE across contact loss (cvode-bdf, rtol 1e-6 to 1e-10;
+  // docs/dynamics.md); 1000 rtol keeps a margin above that, and 1e-12 bounds it at rounding level.
+  double period_settle_tolerance(double relative_tolerance);
+
+  // detect_period(...).multiplicity with the settle tolerance `relative_tolerance`.
   int period_multiplicity(const std::vector<PoincarePoint> &section, double x_scale, double v_scale,
                           double relative_tolerance = 1e-4, int max_k = 8);
 

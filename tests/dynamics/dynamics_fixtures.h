@@ -2,9 +2,12 @@
 // Shared set-ups of the dynamics tests.
 #include "dynamics/analysis.h"
 #include "dynamics/gear_pair_model.h"
+#include "dynamics/stiffness_table.h"
 
 #include <cmath>
 #include <complex>
+#include <string>
+#include <vector>
 
 namespace hertzgear::dynamics::testing
 {
@@ -24,6 +27,34 @@ namespace hertzgear::dynamics::testing
     p.stiffness.k_hertz_N_per_m_pow_n = {5.095e10, {2.045e10, 3.769e9, 5.891e9, 3.513e9},
                                          {0.0, M_PI, M_PI, 0.0}};
     return p;
+  }
+
+  // The crowned pair of data/scenes/paper_crowned_table.prm as `hertzgear dynamics` resolves it
+  // (the shipped FE table data/stiffness/paper_crowned.json, k constant at its mean, c from
+  // zeta = 0.015 on the linearised stiffness), at 16000 rpm: near the primary resonance, where
+  // the layer opens at delta = 0 and the teeth fly through the backlash and close again once per
+  // mesh period from the 14th period on (from the scene's initial state, contact_loss_start).
+  inline GearPairParameters contact_loss_pair()
+  {
+    GearPairParameters p;
+    p.stiffness = read_stiffness_table(std::string(HERTZGEAR_SOURCE_DIR) +
+                                       "/data/stiffness/paper_crowned.json");
+    p.equivalent_mass_kg       = 0.1432020538745814;
+    p.static_force_N           = 6477.603832462074;
+    p.half_backlash_m          = 58.6e-6;
+    p.mesh_frequency_rad_per_s = 2.0 * M_PI * 23.0 * 16000.0 / 60.0;
+    p.alpha_s_per_m            = 0.26;
+    p.effects.rest_stiffness_variation = false;
+    p.damping_N_s_per_m =
+      2.0 * 0.015 *
+      std::sqrt(equivalent_mesh_stiffness(p.stiffness, HertzianLayer::dynamic, p.static_force_N) *
+                p.equivalent_mass_kg);
+    return p;
+  }
+  // The scene's given initial state (x = 58.6059 um, x' = 5.86e-5 m/s, delta = 0.05796 um).
+  inline std::vector<double> contact_loss_start(const GearPairModel &model)
+  {
+    return model.state(58.6059e-6, 5.86e-5, 0.05796e-6);
   }
 
   // A unit oscillator (m = 1 kg, k = 1e6 N/m, omega_n = 1000 rad/s) for closed-form checks.
