@@ -67,7 +67,8 @@ namespace hertzgear::stiffness
     // Summary of a set of rows: STE peak-to-peak, means, largest peak pressure, edge contacts.
     nlohmann::json rows_summary(const std::vector<PositionRow> &rows)
     {
-      double ste_min = 0, ste_max = 0, k_total = 0, k_rest = 0, p_max = 0, z_min = 0, z_max = 0;
+      double ste_min = 0, ste_max = 0, k_total = 0, k_rest = 0, p_max = 0, p_off_tips = 0, z_min = 0,
+             z_max = 0;
       int    face_end = 0, tip = 0;
       for (std::size_t i = 0; i < rows.size(); ++i)
         {
@@ -80,6 +81,8 @@ namespace hertzgear::stiffness
           k_total += r.k_total_N_per_m / rows.size();
           k_rest += r.k_rest_N_per_m / rows.size();
           p_max = std::max(p_max, r.peak_pressure_MPa);
+          if (!r.tip_contact.value_or(false))
+            p_off_tips = std::max(p_off_tips, r.peak_pressure_MPa);
           face_end += r.face_end_contact.value_or(false);
           tip += r.tip_contact.value_or(false);
         }
@@ -88,6 +91,8 @@ namespace hertzgear::stiffness
               {"mean_k_total_N_per_m", k_total},
               {"mean_k_rest_N_per_m", k_rest},
               {"max_peak_pressure_MPa", p_max},
+              // without the positions whose contact reaches a tip (its edge pressure)
+              {"max_peak_pressure_off_tips_MPa", p_off_tips},
               {"contact_centre_z_min_mm", z_min},
               {"contact_centre_z_max_mm", z_max},
               {"face_end_contact_positions", face_end},

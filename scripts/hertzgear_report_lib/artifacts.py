@@ -467,6 +467,9 @@ def map_summaries_of_rows(table):
     for case in np.unique(table["case"]):
         rows = table["case"] == case
         s = {k: float(table[k][rows][0]) for k in MAP_CASE_KEYS if table.numeric(k)}
+        off_tips = rows & (table["tip_contact"] == 0) if table.numeric("tip_contact") else rows
+        s["max_peak_pressure_off_tips_MPa"] = (float(np.max(table["peak_pressure_MPa"][off_tips]))
+                                               if off_tips.any() else 0.0)
         s.update({key: float(reduce(table[col][rows])) for key, col, reduce in MAP_SUMMARY_OF_ROWS
                   if table.numeric(col)})
         s["n_positions"] = int(rows.sum())

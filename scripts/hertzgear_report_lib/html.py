@@ -103,6 +103,7 @@ MAP_COLUMNS = (
     ("STE p-p (µm)", lambda c: "%.3f" % c["ste_peak_to_peak_um"]),
     ("mean k<sub>total</sub> (N/µm)", lambda c: "%.1f" % (1e-6 * c["mean_k_total_N_per_m"])),
     ("max peak pressure (MPa)", lambda c: "%.0f" % c["max_peak_pressure_MPa"]),
+    ("away from the tips (MPa)", lambda c: "%.0f" % c["max_peak_pressure_off_tips_MPa"]),
     ("edge-contact positions", lambda c: "%d" % c["face_end_contact_positions"]),
     ("tip-contact positions", lambda c: "%d" % c["tip_contact_positions"]),
 )
