@@ -7,12 +7,22 @@
 
 #include <nlohmann/json.hpp>
 
+#include <string>
+#include <vector>
+
 namespace hertzgear
 {
   nlohmann::json summary_json(const DynamicsSetup &setup, const dynamics::GearPairModel &model,
                               const dynamics::SimulationResult &result,
                               const dynamics::SteadyStateSummary &summary);
-  int run_accuracy_dynamics(const CommandContext &ctx);
+  // The options of `hertzgear accuracy dynamics`: which integrators, and how far the ladder of
+  // tolerances goes.
+  struct AccuracyDynamicsOptions
+  {
+    std::vector<std::string> integrators; // empty: all
+    double                   tightest_rtol = 1e-12;
+  };
+  int run_accuracy_dynamics(const CommandContext &ctx, const AccuracyDynamicsOptions &options);
 
   // The dynamics stage on a loaded scene: integrate, analyse and, when `dir` is given, write
   // timeseries.csv, poincare.csv, spectrum.csv, force_penetration.csv, impacts.csv and

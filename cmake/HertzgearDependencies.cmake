@@ -5,6 +5,7 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
 find_package(Threads REQUIRED)
+find_package(Boost 1.71 REQUIRED) # headers only (Boost.Math minimisation in dynamics/analysis.cc)
 
 find_package(CLI11 REQUIRED)
 if(HERTZGEAR_WITH_FEM)

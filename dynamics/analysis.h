@@ -21,6 +21,9 @@ namespace hertzgear::dynamics
     int                transient_periods  = 400;
     int                samples_per_period = 100;
     int                steps_per_period   = 100; // rk4 only
+    // Extremes (DTE, mesh force, penetration) located on the integrator's dense output between
+    // the samples, not only at the samples.
+    bool               dense_extremes     = true;
   };
 
   // One output sample.
@@ -41,6 +44,15 @@ namespace hertzgear::dynamics
     double dte_rate_m_per_s = 0.0;
   };
 
+  // The extremes of the steady window, each with the time it is reached.
+  struct SteadyExtremes
+  {
+    double min_dte_m = 0.0, max_dte_m = 0.0, min_force_N = 0.0, max_force_N = 0.0,
+           max_penetration_m = 0.0; // max |delta|
+    double t_min_dte_s = 0.0, t_max_dte_s = 0.0, t_min_force_s = 0.0, t_max_force_s = 0.0,
+           t_max_penetration_s = 0.0;
+  };
+
   struct SimulationResult
   {
     double                     mesh_period_s = 0.0;
@@ -51,6 +63,9 @@ namespace hertzgear::dynamics
     std::vector<double>        final_state;
     IntegratorStats            stats;
     double                     relative_tolerance = 0.0; // the integrator's (period detection)
+    // Located on the dense output (RunSettings::dense_extremes); else only the samples count.
+    bool                       has_dense_extremes = false;
+    SteadyExtremes             dense_extremes;
   };
 
   // Progress: called after each chunk with (periods done, periods in all).
@@ -94,6 +109,10 @@ namespace hertzgear::dynamics
     double period_distance            = 0.0; // estimated distance from the limit, / scale
     double mean_energy_per_impact_J = 0.0;
     int    n_impacts             = 0;
+    // Where the extremes (min/max DTE and force, max penetration, dynamic factor) come from:
+    // "dense output" (the integrator's interpolant, maximised inside every step of the steady
+    // window, and the samples) or "samples" (the output samples only).
+    std::string extremes_from;
   };
   // JSON with the member names as keys (nlohmann's to_json / from_json).
   NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SteadyStateSummary, rms_dte_m, rms_dte_fluctuation_m, mean_dte_m,
@@ -102,7 +121,7 @@ namespace hertzgear::dynamics
                                      contact_loss_fraction, contact_losses_per_period,
                                      backside_impacts, period_multiplicity, period_status,
                                      period_candidate, period_contraction, period_distance,
-                                     mean_energy_per_impact_J, n_impacts)
+                                     mean_energy_per_impact_J, n_impacts, extremes_from)
 
   // Period-k detection from the convergence of the Poincare section, not from the size of its
   // differences alone. For k = 1..max_k, the k-step differences

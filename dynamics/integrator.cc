@@ -3,6 +3,7 @@
 #include "common/errors.h"
 #include "common/names.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -104,7 +105,22 @@ namespace hertzgear::dynamics
               "{integrator} = cvode-bdf, or more {steps_per_period}");
         const std::vector<double> bounds = system.blow_up_bounds();
 
-        std::vector<double> k1(n), k2(n), k3(n), k4(n), tmp(n);
+        std::vector<double> k1(n), k2(n), k3(n), k4(n), tmp(n), y_old(n), f_end(n);
+        // With a step observer, f at a step's end is needed for its Hermite polynomial, and is
+        // the next step's k1 unless an event changed the state there.
+        bool       k1_known = false;
+        const auto hermite  = [&](const double t_a, const double h_step) -> DenseOutput {
+          return [&, t_a, h_step](const double tt, double *u) {
+            // Cubic Hermite basis in s = (tt - t_a) / h through y and f at both ends.
+            const double s   = (tt - t_a) / h_step;
+            const double h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s);
+            const double h10 = s * (1.0 - s) * (1.0 - s);
+            const double h01 = s * s * (3.0 - 2.0 * s);
+            const double h11 = s * s * (s - 1.0);
+            for (unsigned i = 0; i < n; ++i)
+              u[i] = h00 * y_old[i] + h_step * h10 * k1[i] + h01 * y[i] + h_step * h11 * f_end[i];
+          };
+        };
         const unsigned      n_roots = system.n_roots();
         std::vector<double> g_old(n_roots), g_new(n_roots);
         std::vector<int>    directions(n_roots);
@@ -118,7 +134,14 @@ namespace hertzgear::dynamics
             for (long s = 0; s < n_sub; ++s)
               {
                 const double t = t0 + ((out - 1) * n_sub + s) * h;
-                system.rhs(t, y.data(), k1.data());
+                if (!k1_known)
+                  {
+                    system.rhs(t, y.data(), k1.data());
+                    ++statistics.rhs_evals;
+                  }
+                k1_known = false;
+                if (step_observer)
+                  std::copy(y.begin(), y.end(), y_old.begin());
                 for (unsigned i = 0; i < n; ++i)
                   tmp[i] = y[i] + 0.5 * h * k1[i];
                 system.rhs(t + 0.5 * h, tmp.data(), k2.data());
@@ -130,9 +153,18 @@ namespace hertzgear::dynamics
                 system.rhs(t + h, tmp.data(), k4.data());
                 for (unsigned i = 0; i < n; ++i)
                   y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-                statistics.rhs_evals += 4;
+                statistics.rhs_evals += 3;
                 ++statistics.steps;
                 check_state(system, bounds, t + h, y.data(), "rk4", remedy);
+                if (step_observer)
+                  {
+                    // The polynomial through y_old, k1 = f(t, y_old) and y, f_end = f(t + h, y).
+                    system.rhs(t + h, y.data(), f_end.data());
+                    ++statistics.rhs_evals;
+                    step_observer(t, t + h, hermite(t, h));
+                    std::copy(f_end.begin(), f_end.end(), k1.begin());
+                    k1_known = true;
+                  }
 
                 if (n_roots)
                   {
@@ -152,6 +184,7 @@ namespace hertzgear::dynamics
                     if (any)
                       {
                         ++statistics.events;
+                        k1_known = false; // the event may change the state or the contact law
                         if (system.handle_event(t + h, y.data(), directions.data()))
                           system.roots(t + h, y.data(), g_new.data());
                       }

@@ -66,6 +66,16 @@ namespace hertzgear::dynamics
   // Called at every output time with the state there.
   using Observer = std::function<void(double t, const double *y)>;
 
+  // The integrator's continuous solution inside one step (its dense output): writes y(t) for
+  // t in the step's interval. Valid only during the StepObserver call it is passed to.
+  using DenseOutput = std::function<void(double t, double *y)>;
+  // Called after every accepted step with the interval [t_begin, t_end] it covers (up to the
+  // event when the step located one; t_begin is where the previous report ended) and the
+  // integrator's interpolant over it: radau-iia its collocation polynomial, the SUNDIALS
+  // integrators CVodeGetDky / ERKStepGetDky / ARKStepGetDky / IDAGetDky, rk4 the cubic Hermite
+  // polynomial through the values and derivatives at the step's ends.
+  using StepObserver = std::function<void(double t_begin, double t_end, const DenseOutput &y_at)>;
+
   class Integrator
   {
   public:
@@ -79,8 +89,13 @@ namespace hertzgear::dynamics
 
     const IntegratorStats &stats() const { return statistics; }
 
+    // Installs (or, with an empty function, removes) the observer of accepted steps. It sees
+    // the solution between the output times; the steps taken do not depend on it.
+    void set_step_observer(StepObserver observer) { step_observer = std::move(observer); }
+
   protected:
     IntegratorStats statistics;
+    StepObserver    step_observer;
   };
 
   std::unique_ptr<Integrator> make_integrator(const IntegratorSettings &settings);

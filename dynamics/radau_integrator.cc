@@ -317,7 +317,8 @@ namespace hertzgear::dynamics
     public:
       virtual ~RadauCoreBase() = default;
       virtual void integrate(OdeSystem &system, double t0, std::vector<double> &y0,
-                             double output_interval, long n_outputs, const Observer &observer) = 0;
+                             double output_interval, long n_outputs, const Observer &observer,
+                             const StepObserver &step_observer) = 0;
     };
 
     template <int N, int S>
@@ -372,7 +373,7 @@ namespace hertzgear::dynamics
 
       void integrate(OdeSystem &system, const double t0, std::vector<double> &y0,
                      const double output_interval, const long n_outputs,
-                     const Observer &observer) override
+                     const Observer &observer, const StepObserver &step_observer) override
       {
         const int n = dim();
         sys         = &system;
@@ -431,7 +432,14 @@ namespace hertzgear::dynamics
                 const double h_try  = H >= h_max * (1.0 - 1e-10) ? h_max : std::min(H, h_max);
                 const bool   to_end = h_try == tout - t;
                 const double h_done = step(t, y, h_try, remedy);
-                t                   = (to_end && h_done == h_try) ? tout : t + h_done;
+                const double t_next = (to_end && h_done == h_try) ? tout : t + h_done;
+                if (step_observer)
+                  // The collocation polynomial of the kept step (up to the event, if any).
+                  step_observer(t, t_next, [&](const double tt, double *u) {
+                    const V v = dense(y, Z_dense, (tt - t) / h_dense);
+                    std::copy(v.begin(), v.begin() + n, u);
+                  });
+                t = t_next;
                 y                   = y_next;
                 check_state(system, bounds, t, y.data(), "radau-iia", remedy);
               }
@@ -972,6 +980,8 @@ namespace hertzgear::dynamics
                     first_step = false;
                     ++statistics.steps;
                     set_next(y);
+                    Z_dense      = Z;
+                    h_dense      = h_try;
                     double taken = h_try;
                     if (n_roots)
                       taken = locate_event(t, y, h_try);
@@ -1118,13 +1128,16 @@ namespace hertzgear::dynamics
             const Stages Zs = Z; // the polynomial the root was located on
             if (!solve(t, y, h_root))
               {
-                // No convergence on the shorter step (rare): the dense output there.
+                // No convergence on the shorter step (rare): the dense output there, which
+                // stays the step's polynomial.
                 y_next = dense(y, Zs, b);
                 sys->roots(t + h_root, y_next.data(), g_hi.data());
                 ++statistics.root_evals;
                 break;
               }
             set_next(y);
+            Z_dense = Z;
+            h_dense = h_root;
             sys->roots(t + h_root, y_next.data(), g_hi.data());
             ++statistics.root_evals;
             bool confirmed = false;
@@ -1199,6 +1212,10 @@ namespace hertzgear::dynamics
       V                    atol{}, f0{}, y_next{}, y_prev{};
       double               J[NM][NM] = {};
       Stages               Z{}, Z_prev{};
+      // The polynomial of the last kept step: its stages and the step size they were solved for
+      // (at least the step kept; longer when the step was cut at an event on that polynomial).
+      Stages               Z_dense{};
+      double               h_dense = 0.0;
       SmallLU<double, N>   lu_real;
       SmallLU<cplx, N>     lu_cplx[R];
       bool                 lu_valid = false;
@@ -1281,7 +1298,7 @@ namespace hertzgear::dynamics
               }
             core_n = n;
           }
-        core->integrate(system, t0, y0, output_interval, n_outputs, observer);
+        core->integrate(system, t0, y0, output_interval, n_outputs, observer, step_observer);
         statistics.wall_time_s +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       }

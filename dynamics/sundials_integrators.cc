@@ -5,6 +5,8 @@
 #include "common/errors.h"
 #include "dynamics/integrator.h"
 
+#include <boost/math/tools/toms748_solve.hpp>
+
 #include <arkode/arkode_arkstep.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
@@ -14,9 +16,13 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <memory>
+#include <vector>
 
 namespace hertzgear::dynamics
 {
@@ -133,49 +139,151 @@ namespace hertzgear::dynamics
              "integrator = ida), or relax {relative_tolerance}";
     }
 
-    // Common driver of the output/event loop. `advance(tout, t)` takes one call of the
-    // SUNDIALS solve function and returns its flag; `is_root(flag)` and `restart(t)` as named.
-    template <typename Advance, typename IsRoot, typename Restart, typename Harvest>
+    // Common driver of the output/event loop. The solver takes one internal step per call
+    // (ONE_STEP mode), so that every step is seen: `advance(tout, t, directions)` takes it, leaves
+    // the solution at its end (or at a located root) in y and t, and returns the solve function's
+    // flag; `interpolate(t, out)` evaluates the solver's interpolant of the last step (its dense
+    // output, valid back to the step's start). Output samples are taken from that interpolant, as
+    // the solver's NORMAL mode does. The solver checks the root functions at the step's ends; as
+    // in NORMAL mode they are also checked at the output times inside the step, so that two
+    // roots within one step (a short contact, or a short loss of it) are found when an output
+    // time separates them: the first is located on the interpolant (TOMS 748, to the solver's
+    // root tolerance 100 u (|t| + |h|)) and treated as the solver's own root return. At a root,
+    // the samples before it are taken before the event changes the state and `restart(t)`
+    // re-initialises the solver there.
+    template <typename Advance, typename Interpolate, typename IsRoot, typename Restart,
+              typename Harvest>
     void drive(OdeSystem &system, CallbackData &data, const std::string &name, const double t0,
                double *y, const double output_interval, const long n_outputs,
-               const Observer &observer, Advance advance, IsRoot is_root, Restart restart,
-               Harvest harvest, IntegratorStats &stats, const std::function<std::string(int)> &flag_name)
+               const Observer &observer, const StepObserver &step_observer,
+               const long max_steps_per_output, Advance advance, Interpolate interpolate,
+               IsRoot is_root, Restart restart, Harvest harvest, IntegratorStats &stats,
+               const std::function<std::string(int)> &flag_name)
     {
-      const unsigned   n_roots = system.n_roots();
-      std::vector<int> directions(n_roots);
+      const unsigned      n       = system.n_states();
+      const unsigned      n_roots = system.n_roots();
+      std::vector<int>    directions(n_roots);
+      std::vector<double> y_out(n), y_probe(n);
+      // The root functions at the last point checked (the step's start or an output time).
+      std::vector<double> g_ref(n_roots), g_probe(n_roots);
+      double              t_ref = t0;
+      if (n_roots)
+        system.roots(t0, y, g_ref.data());
+      const DenseOutput   dense = [&](const double tt, double *u) { interpolate(tt, u); };
       if (observer)
         observer(t0, y);
-      double t = t0;
-      for (long out = 1; out <= n_outputs; ++out)
+      double t          = t0; // the time of y
+      double t_reported = t0; // where the last step report ended
+      long   out        = 1;
+      long   steps      = 0;  // since the last output sample
+      // The samples up to t from the last step's interpolant.
+      const auto sample_until = [&](const double t_end) {
+        for (; out <= n_outputs && t0 + out * output_interval <= t_end; ++out)
+          {
+            const double tout = t0 + out * output_interval;
+            if (tout == t)
+              std::copy(y, y + n, y_out.begin());
+            else
+              interpolate(tout, y_out.data());
+            if (observer)
+              observer(tout, y_out.data());
+            steps = 0;
+          }
+      };
+      const double t_final = t0 + n_outputs * output_interval;
+      while (out <= n_outputs)
         {
           const double tout = t0 + out * output_interval;
-          while (t < tout)
+          if (++steps > max_steps_per_output)
             {
-              const int flag = advance(tout, t, directions.data());
-              if (flag < 0)
-                {
-                  harvest();
-                  throw NumericalError(msg(name, " failed at t = ", t, " s with ", flag_name(flag),
-                                           " (", data.last_error, "); state ",
-                                           system.describe_state(y), ". Remedy: ",
-                                           remedy_for(name)));
-                }
-              check_state(system, t, y, name, remedy_for(name));
-              if (is_root(flag))
-                {
-                  ++stats.events;
-                  system.handle_event(t, y, directions.data());
-                  // Counters restart with the integrator: collect them first.
-                  harvest();
-                  restart(t);
-                }
-              else
-                break; // reached tout
+              harvest();
+              throw NumericalError(msg(name, " took more than ", max_steps_per_output,
+                                       " steps before t = ", tout, " s, at t = ", t, " s; state ",
+                                       system.describe_state(y), ". Remedy: ", remedy_for(name)));
             }
-          if (observer)
-            observer(tout, y);
-          t = tout;
+          const int flag = advance(tout, t, directions.data());
+          if (flag < 0)
+            {
+              harvest();
+              throw NumericalError(msg(name, " failed at t = ", t, " s with ", flag_name(flag), " (",
+                                       data.last_error, "); state ", system.describe_state(y),
+                                       ". Remedy: ", remedy_for(name)));
+            }
+          check_state(system, t, y, name, remedy_for(name));
+          bool found_root = is_root(flag);
+          if (n_roots && !found_root)
+            {
+              // The output times inside the step (the solver checked its ends).
+              for (long k = out; k <= n_outputs && t0 + k * output_interval < t; ++k)
+                {
+                  const double tk = t0 + k * output_interval;
+                  interpolate(tk, y_probe.data());
+                  system.roots(tk, y_probe.data(), g_probe.data());
+                  ++stats.root_evals;
+                  double t_root = tk;
+                  int    i_root = -1;
+                  for (unsigned i = 0; i < n_roots; ++i)
+                    if (g_ref[i] * g_probe[i] < 0.0)
+                      {
+                        const auto g_i = [&](const double tt) {
+                          interpolate(tt, y_probe.data());
+                          std::vector<double> g(n_roots);
+                          system.roots(tt, y_probe.data(), g.data());
+                          ++stats.root_evals;
+                          return g[i];
+                        };
+                        const double   t_tol = 100.0 * std::numeric_limits<double>::epsilon() *
+                                             (std::abs(t) + (t - t_ref));
+                        std::uintmax_t iterations = 100;
+                        const auto     bracket    = boost::math::tools::toms748_solve(
+                          g_i, t_ref, tk, g_ref[i], g_probe[i],
+                          [t_tol](const double a, const double b) { return b - a <= t_tol; },
+                          iterations);
+                        if (bracket.second < t_root || i_root < 0)
+                          {
+                            t_root = bracket.second; // past the root, as the solver's root return
+                            i_root = int(i);
+                          }
+                      }
+                  if (i_root >= 0)
+                    {
+                      interpolate(t_root, y);
+                      system.roots(t_root, y, g_probe.data());
+                      for (unsigned i = 0; i < n_roots; ++i)
+                        directions[i] = g_ref[i] * g_probe[i] < 0.0 || int(i) == i_root
+                                          ? (g_ref[i] < 0.0 ? 1 : -1)
+                                          : 0;
+                      t          = t_root;
+                      found_root = true;
+                      break;
+                    }
+                  g_ref = g_probe;
+                  t_ref = tk;
+                }
+            }
+          // The part of the step within this call's range (the next call restarts at t_final).
+          if (step_observer && std::min(t, t_final) > t_reported)
+            step_observer(t_reported, std::min(t, t_final), dense);
+          t_reported = t;
+          sample_until(t);
+          if (found_root)
+            {
+              ++stats.events;
+              system.handle_event(t, y, directions.data());
+              // Counters restart with the integrator: collect them first.
+              harvest();
+              restart(t);
+            }
+          if (n_roots)
+            {
+              system.roots(t, y, g_ref.data());
+              ++stats.root_evals;
+              t_ref = t;
+            }
         }
+      // The state at the last output time (the last step may have passed it).
+      if (t != t_final)
+        std::copy(y_out.begin(), y_out.end(), y);
       harvest();
     }
     void check_flag(const int flag, const char *what)
@@ -230,9 +338,15 @@ namespace hertzgear::dynamics
           statistics.root_evals += c.roots - last.roots;
           last = c;
         };
+        Vector dky(n, context.ctx);
         drive(
           system, data, statistics.name, t0, y.data(), output_interval, n_outputs, observer,
+          step_observer, settings.max_steps_per_output,
           [&](const double tout, double &t, int *dirs) { return advance(tout, t, y.v, dirs); },
+          [&](const double t, double *u) {
+            check_flag(dense_output(t, dky.v), "the dense output (GetDky)");
+            std::copy(dky.data(), dky.data() + n, u);
+          },
           [&](const int flag) { return is_root(flag); },
           [&](const double t) {
             reinit(system, t, y.v);
@@ -248,8 +362,11 @@ namespace hertzgear::dynamics
       // Create the solver memory for `system` from (t0, y) and apply the settings.
       virtual void        create(OdeSystem &system, SUNContext ctx, double t0, N_Vector y,
                                  N_Vector atol, CallbackData &data)          = 0;
-      // One call of the solve function towards tout; fills the root directions on a root return.
+      // One internal step of the solve function (ONE_STEP mode; tout sets the direction and the
+      // first step's size); fills the root directions on a root return.
       virtual int         advance(double tout, double &t, N_Vector y, int *directions) = 0;
+      // The interpolant of the last step at t (the solver's GetDky with k = 0).
+      virtual int         dense_output(double t, N_Vector y) const                  = 0;
       virtual bool        is_root(int flag) const                             = 0;
       // Restart at t from y after an event.
       virtual void        reinit(OdeSystem &system, double t, N_Vector y)     = 0;
@@ -294,10 +411,14 @@ namespace hertzgear::dynamics
       }
       int advance(const double tout, double &t, N_Vector y, int *directions) override
       {
-        const int flag = CVode(mem, tout, y, &t, CV_NORMAL);
+        const int flag = CVode(mem, tout, y, &t, CV_ONE_STEP);
         if (flag == CV_ROOT_RETURN)
           CVodeGetRootInfo(mem, directions);
         return flag;
+      }
+      int  dense_output(const double t, N_Vector y) const override
+      {
+        return CVodeGetDky(mem, t, 0, y);
       }
       bool is_root(const int flag) const override { return flag == CV_ROOT_RETURN; }
       void reinit(OdeSystem &, const double t, N_Vector y) override
@@ -351,10 +472,14 @@ namespace hertzgear::dynamics
       }
       int advance(const double tout, double &t, N_Vector y, int *directions) override
       {
-        const int flag = ERKStepEvolve(mem, tout, y, &t, ARK_NORMAL);
+        const int flag = ERKStepEvolve(mem, tout, y, &t, ARK_ONE_STEP);
         if (flag == ARK_ROOT_RETURN)
           ERKStepGetRootInfo(mem, directions);
         return flag;
+      }
+      int  dense_output(const double t, N_Vector y) const override
+      {
+        return ERKStepGetDky(mem, t, 0, y);
       }
       bool is_root(const int flag) const override { return flag == ARK_ROOT_RETURN; }
       void reinit(OdeSystem &, const double t, N_Vector y) override
@@ -416,10 +541,14 @@ namespace hertzgear::dynamics
       }
       int advance(const double tout, double &t, N_Vector y, int *directions) override
       {
-        const int flag = ARKStepEvolve(mem, tout, y, &t, ARK_NORMAL);
+        const int flag = ARKStepEvolve(mem, tout, y, &t, ARK_ONE_STEP);
         if (flag == ARK_ROOT_RETURN)
           ARKStepGetRootInfo(mem, directions);
         return flag;
+      }
+      int  dense_output(const double t, N_Vector y) const override
+      {
+        return ARKStepGetDky(mem, t, 0, y);
       }
       bool is_root(const int flag) const override { return flag == ARK_ROOT_RETURN; }
       void reinit(OdeSystem &, const double t, N_Vector y) override
@@ -484,10 +613,14 @@ namespace hertzgear::dynamics
       }
       int advance(const double tout, double &t, N_Vector y, int *directions) override
       {
-        const int flag = IDASolve(mem, tout, &t, y, yp->v, IDA_NORMAL);
+        const int flag = IDASolve(mem, tout, &t, y, yp->v, IDA_ONE_STEP);
         if (flag == IDA_ROOT_RETURN)
           IDAGetRootInfo(mem, directions);
         return flag;
+      }
+      int  dense_output(const double t, N_Vector y) const override
+      {
+        return IDAGetDky(mem, t, 0, y);
       }
       bool is_root(const int flag) const override { return flag == IDA_ROOT_RETURN; }
       void reinit(OdeSystem &system, const double t, N_Vector y) override

@@ -19,10 +19,14 @@ def main(csv_path, png_path):
     panels = [("rms_dte_relative_error", "relative error of RMS DTE"),
               ("poincare_max_error_um", "max Poincare error [um]")]
     for ax, (key, label) in zip(axes, panels):
-        for name in sorted({r["integrator"] for r in rows}):
+        def series(r):
+            # radau-iia once per stage count.
+            return r["integrator"] + (f" s={r['stages']}" if r.get("stages") else "")
+
+        for name in sorted({series(r) for r in rows}):
             pts = []
             for r in rows:
-                if r["integrator"] != name or r["status"] != "ok":
+                if series(r) != name or r["status"] != "ok":
                     continue
                 err, t = float(r[key]), float(r["wall_time_s"])
                 if math.isfinite(err) and t > 0:
@@ -37,7 +41,7 @@ def main(csv_path, png_path):
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle("hertzgear dynamics: work-precision (reference cvode-bdf rtol 1e-12)")
+    fig.suptitle("hertzgear dynamics: work-precision (converged reference)")
     fig.tight_layout()
     fig.savefig(png_path, dpi=120)
 

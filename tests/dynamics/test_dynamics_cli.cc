@@ -25,7 +25,7 @@ namespace
 } // namespace
 
 // Requirement: `hertzgear dynamics SCENE --out DIR` writes the listed artifacts, and summary.json
-// has every listed key; the mean mesh force of the (period-1) paper scene equals F_0 within 0.1 %.
+// has every listed key and says that its extremes come from the dense output; the mean mesh force of the (period-1) paper scene equals F_0 within 0.1 %.
 TEST(DynamicsCli, WritesTheArtifacts)
 {
   const fs::path out = fresh_dir("artifacts");
@@ -40,12 +40,13 @@ TEST(DynamicsCli, WritesTheArtifacts)
   for (const char *key :
        {"rms_dte_um", "mean_mesh_force_N", "static_force_N", "max_mesh_force_N", "dynamic_factor",
         "contact_loss_fraction", "contact_losses_per_period", "backside_impacts",
-        "period_multiplicity", "max_penetration_um", "state_dimension", "effects",
+        "period_multiplicity", "max_penetration_um", "extremes_from", "state_dimension", "effects",
         "equivalent_mass_kg", "integrator", "wall_time_s"})
     EXPECT_TRUE(s.contains(key)) << key;
   for (const char *key : {"name", "steps", "rejected_steps", "rhs_evals", "events"})
     EXPECT_TRUE(s["integrator"].contains(key)) << key;
   EXPECT_EQ(s["state_dimension"].get<int>(), 3);
+  EXPECT_EQ(s["extremes_from"].get<std::string>(), "dense output");
   EXPECT_NEAR(s["mean_mesh_force_N"].get<double>(), s["static_force_N"].get<double>(),
               1e-3 * s["static_force_N"].get<double>());
   EXPECT_NE(r.err.find("[dynamics] period"), std::string::npos) << "progress lines on stderr";
@@ -93,7 +94,7 @@ TEST(DynamicsCli, SweepWritesItsTables)
   const std::string sweep = slurp(out / "sweep.csv");
   EXPECT_EQ(sweep.substr(0, sweep.find('\n')),
             "speed_rpm,direction,rms_dte_um,min_dte_um,max_dte_um,dynamic_factor,"
-            "contact_loss_fraction,period_multiplicity");
+            "contact_loss_fraction,period_multiplicity,extremes_from");
   EXPECT_EQ(std::count(sweep.begin(), sweep.end(), '\n'), 1 + 3 * 3); // up, down, independent
   EXPECT_EQ(slurp(out / "bifurcation.csv").substr(0, 26), "speed_rpm,poincare_dte_um\n");
   fs::remove_all(out);
