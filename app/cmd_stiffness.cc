@@ -4,6 +4,7 @@
 #include "app/run_directory.h"
 #include "app/stiffness_setup.h"
 #include "common/processes.h"
+#include "common/stage_cache.h"
 #include "stiffness/table_writer.h"
 
 #include <iostream>
@@ -30,6 +31,11 @@ namespace hertzgear
                                      ", no meshing or FE (set Stiffness/source = fem for the FE "
                                      "contact analysis)");
       const RunDirectory dir(out, scene, ctx.command_line);
+      if (writer)
+        {
+          dir.lock();
+          remove_partial_files(out); // what an interrupted run left under temporary names
+        }
       const auto result = write_stiffness(scene, dir, scene.output.write_fields, timer);
       if (writer)
         {

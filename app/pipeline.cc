@@ -172,6 +172,7 @@ namespace hertzgear
       {
         const auto plan = planned_stages(scene);
         announce(plan);
+        dir.lock(); // a second run on this folder stops here, before touching the first's files
         remove_partial_files(out);
         // The report reads the scene values; written first, it is not an artifact of any stage.
         dir.write_text("used_parameters.prm", scene.used_parameters_prm);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,10 @@ namespace hertzgear
 
     const std::filesystem::path &path() const { return directory; }
 
+    // Takes the folder for this process (RunLock), once; the first write takes it too. Call it
+    // before touching what is already in the folder (clean-up of an interrupted run).
+    void lock() const;
+
     // Atomically write `content` to directory/name (sub-folders are created as needed).
     void write_text(const std::string &name, const std::string &content) const;
     void write_json(const std::string &name, const nlohmann::json &value) const;
@@ -30,9 +35,27 @@ namespace hertzgear
     void finish(const PhaseTimer &timer, const nlohmann::json &extra = nlohmann::json::object()) const;
 
   private:
-    std::filesystem::path directory;
-    const Scene          &scene;
-    std::string           command_line;
+    std::filesystem::path            directory;
+    const Scene                     &scene;
+    std::string                      command_line;
+    mutable std::shared_ptr<class RunLock> held;
+  };
+
+  // Exclusive use of a run directory for the life of this object: creates the folder (and its
+  // parents) and takes an advisory lock (flock) on DIR/.hertzgear.lock, which the kernel releases
+  // when the process ends in any way. Throws InputError naming the folder and the reason when the
+  // folder cannot be made or written, and naming the holder's process when another hertzgear
+  // process uses it: a second run on one folder exits 2 at once instead of racing the first.
+  class RunLock
+  {
+  public:
+    explicit RunLock(const std::filesystem::path &directory);
+    ~RunLock();
+    RunLock(const RunLock &)            = delete;
+    RunLock &operator=(const RunLock &) = delete;
+
+  private:
+    int fd = -1;
   };
 
   // Metadata every artifact carries: version, git revision, scene hash.

@@ -5,6 +5,7 @@
 #include "common/errors.h"
 #include "common/processes.h"
 #include "stiffness/registry.h"
+#include "stiffness/table_file.h"
 #include "stiffness/table_writer.h"
 
 
@@ -112,6 +113,7 @@ namespace hertzgear
         PhaseTimer::Scope scope(timer, "write stiffness");
         nlohmann::json    json = stiffness::stiffness_json(result);
         json.update(provenance(scene));
+        json["pair"] = stiffness::pair_record(input.pair); // ties the table to its pair
         dir.write_text("stiffness.csv", stiffness::stiffness_csv(result));
         // The map and contact pattern of this table, or none (no stale ones beside it).
         for (const auto &[file, text] :

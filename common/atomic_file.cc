@@ -1,6 +1,11 @@
 #include "common/atomic_file.h"
 
+#include "common/errors.h"
+
 #include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
@@ -28,23 +33,48 @@ namespace hertzgear
     return path.filename().string().find(temporary_marker) != std::string::npos;
   }
 
+  namespace
+  {
+    // Data and metadata of `path` on the disk before it is renamed into place, and the rename in
+    // its folder after (the order a power loss needs: a name never points at unwritten data).
+    void sync_to_disk(const fs::path &path, const int flags)
+    {
+      const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+      if (fd < 0)
+        throw InputError(msg("cannot sync ", path.string(), ": ", std::strerror(errno)));
+      const int status = ::fsync(fd);
+      const int error  = errno;
+      ::close(fd);
+      if (status != 0 && error != EINVAL) // EINVAL: a file system without fsync (e.g. a pipe)
+        throw InputError(msg("cannot sync ", path.string(), ": ", std::strerror(error)));
+    }
+  } // namespace
+
   void produce_file_atomically(const fs::path &path,
                                const std::function<void(const fs::path &)> &producer)
   {
-    if (!path.parent_path().empty())
-      fs::create_directories(path.parent_path());
+    const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec)
+      throw InputError(msg("cannot create the folder ", folder.string(), " for ",
+                           path.filename().string(), ": ", ec.message()));
     const fs::path tmp = temporary_path_for(path);
     try
       {
         producer(tmp);
         if (!fs::exists(tmp))
           throw std::runtime_error("producer wrote nothing to " + tmp.string());
-        fs::rename(tmp, path);
+        if (fs::is_regular_file(tmp))
+          sync_to_disk(tmp, O_RDONLY);
+        fs::rename(tmp, path, ec);
+        if (ec)
+          throw InputError(msg("cannot write ", path.string(), ": ", ec.message()));
+        sync_to_disk(folder, O_RDONLY | O_DIRECTORY);
       }
     catch (...)
       {
-        std::error_code ec;
-        fs::remove(tmp, ec);
+        fs::remove_all(tmp, ec);
         throw;
       }
   }
@@ -53,13 +83,16 @@ namespace hertzgear
                              const std::function<void(std::ostream &)> &writer)
   {
     produce_file_atomically(path, [&](const fs::path &tmp) {
+      errno = 0;
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
       if (!out)
-        throw std::runtime_error("cannot open " + tmp.string() + " for writing");
+        throw InputError(msg("cannot write ", path.string(), ": ", std::strerror(errno)));
       writer(out);
       out.flush();
+      out.close();
       if (!out)
-        throw std::runtime_error("write to " + path.string() + " failed");
+        throw InputError(msg("cannot write ", path.string(), ": ",
+                             errno != 0 ? std::strerror(errno) : "write error"));
     });
   }
 

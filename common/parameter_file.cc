@@ -583,7 +583,8 @@ namespace hertzgear
   namespace
   {
     // The .prm text of a JSON tree (ParameterFile::parse_json).
-    void json_to_prm(const nlohmann::json &node, const int depth, std::ostream &out)
+    void json_to_prm(const nlohmann::json &node, const int depth, std::ostream &out,
+                     const std::string &source)
     {
       const auto scalar_text = [](const nlohmann::json &v) -> std::string {
         if (v.is_string())
@@ -598,18 +599,32 @@ namespace hertzgear
           }
         return v.dump();
       };
+      // A JSON string may hold what the .prm text cannot: a newline would start a new entry or
+      // subsection, '#' a comment. Refused here, naming the key, before any text is made.
+      const auto plain = [&](const std::string &key, const std::string &text, const char *what) {
+        for (const char c : text)
+          if (is_control(c))
+            throw ParameterFileError(source, 0, msg("\"", key, "\": the ", what,
+                                                    " contains the control character ", hex_code(c)));
+        if (text.find('#') != std::string::npos)
+          throw ParameterFileError(source, 0, msg("\"", key, "\": the ", what, " \"", text,
+                                                  "\" contains '#', which starts a comment in a "
+                                                  "parameter file"));
+        return text;
+      };
       const std::string indent(2 * depth, ' ');
       for (const auto &[key, value] : node.items())
         {
+          plain(key, key, "key");
           const bool is_entry =
             !value.is_object() || (value.contains("value") && !value["value"].is_object());
           if (is_entry)
             out << indent << "set " << key << " = "
-                << scalar_text(value.is_object() ? value["value"] : value) << "\n";
+                << plain(key, scalar_text(value.is_object() ? value["value"] : value), "value") << "\n";
           else
             {
               out << indent << "subsection " << key << "\n";
-              json_to_prm(value, depth + 1, out);
+              json_to_prm(value, depth + 1, out, source);
               out << indent << "end\n";
             }
         }
@@ -619,7 +634,7 @@ namespace hertzgear
   void ParameterFile::parse_json(const nlohmann::json &tree, const std::string &source)
   {
     std::ostringstream text;
-    json_to_prm(tree, 0, text);
+    json_to_prm(tree, 0, text, source);
     std::istringstream in(text.str());
     parse(in, source);
   }

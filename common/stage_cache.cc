@@ -205,12 +205,17 @@ namespace hertzgear
   {
     if (!fs::is_directory(out))
       return;
+    // Files and folders (the fields of an FE run are written as a folder under a temporary name).
     std::vector<fs::path> partial;
-    for (const auto &e : fs::recursive_directory_iterator(out))
-      if (e.is_regular_file() && is_temporary_artifact(e.path()))
-        partial.push_back(e.path());
+    for (auto it = fs::recursive_directory_iterator(out); it != fs::recursive_directory_iterator(); ++it)
+      if (is_temporary_artifact(it->path()))
+        {
+          partial.push_back(it->path());
+          if (it->is_directory())
+            it.disable_recursion_pending();
+        }
     for (const auto &p : partial)
-      fs::remove(p);
+      fs::remove_all(p);
   }
 
   std::string slurp_file(const fs::path &file)

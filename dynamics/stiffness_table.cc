@@ -1,5 +1,7 @@
 #include "dynamics/stiffness_table.h"
 
+#include "common/input_file.h"
+
 #include "common/atomic_file.h"
 #include "common/errors.h"
 
@@ -149,11 +151,8 @@ namespace hertzgear::dynamics
 
   StiffnessTable read_stiffness_table(const std::filesystem::path &file)
   {
-    std::ifstream in(file);
-    HG_REQUIRE_INPUT(in.good(), "cannot open the stiffness table ", file.string());
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return stiffness_table_from_json_text(ss.str(), file.string());
+    return stiffness_table_from_json_text(read_input_file(file, "stiffness table", max_table_bytes),
+                                          file.string());
   }
 
   std::string stiffness_table_to_json_text(const StiffnessTable &t)

@@ -4,6 +4,7 @@
 // Everything is in SI units; the JSON keys carry their units.
 #include "common/fourier_series.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -59,6 +60,8 @@ namespace hertzgear::dynamics
     void check() const;
   };
 
+  // A stiffness table holds a few series of at most some thousand samples: far below this.
+  constexpr std::uintmax_t max_table_bytes = 64u << 20;
   StiffnessTable read_stiffness_table(const std::filesystem::path &file);
   StiffnessTable stiffness_table_from_json_text(const std::string &text,
                                                 const std::string &where = "stiffness table");

@@ -24,8 +24,18 @@ namespace hertzgear::meshing
                      "impossible gear pair: the pressure angles of pinion and gear differ");
     HG_REQUIRE_INPUT(params.center_distance_mm >= 0 && params.backlash_loa_mm >= 0,
                      "centre distance and backlash must be >= 0");
+    // The single-gear checks (undercut, pointed tip, ...) first: they name the gear and the cause.
+    GearGeometry{p1};
+    GearGeometry{p2};
     const double m = p1.module_mm, alpha = p1.pressure_angle_rad;
     const double r1 = 0.5 * m * p1.teeth, r2 = 0.5 * m * p2.teeth;
+    const double inv_tight = involute(alpha) + 2 * std::tan(alpha) *
+                                                 (p1.profile_shift_coefficient + p2.profile_shift_coefficient) /
+                                                 (p1.teeth + p2.teeth);
+    HG_REQUIRE_INPUT(inv_tight > 0, "impossible gear pair: the profile shifts x1 + x2 = ",
+                     p1.profile_shift_coefficient + p2.profile_shift_coefficient,
+                     " are so negative that the pair has no tight mesh (inv alpha_w = ", inv_tight,
+                     " < 0)");
     const double rb1 = r1 * std::cos(alpha), rb2 = r2 * std::cos(alpha);
 
     // Tight mesh of the unthinned pair (zero backlash): inv(a_w) = inv(a) + 2 tan(a) (x1 + x2) /

@@ -1,6 +1,7 @@
 // Stiffness source fourier: the Fourier coefficients of k and k_h given in the scene, read by the
 // dynamics directly; the unloaded STE, when asked for, from a stiffness table file.
 #include "stiffness/stiffness_source.h"
+#include "stiffness/table_file.h"
 
 namespace hertzgear::stiffness
 {
@@ -23,7 +24,7 @@ namespace hertzgear::stiffness
         t.source                = "Fourier coefficients of the scene";
         if (input.unloaded_ste_from_table)
           {
-            const auto from_file = dynamics::read_stiffness_table(input.table_file);
+            const auto from_file = read_table_for(input);
             t.unloaded_ste_m     = from_file.unloaded_ste_m;
             t.has_unloaded_ste   = from_file.has_unloaded_ste;
           }

@@ -134,11 +134,12 @@ TEST(Run, TableSourceRunsOnlyDynamicsAndSweepAddsTheSweep)
   EXPECT_TRUE(fs::exists(dir / "sweep.csv"));
   EXPECT_THAT(r.err, HasSubstr("no meshing, no FE"));
 
-  // The table is an input of the dynamics and the sweep: a new table (less crowning) reruns both,
-  // and the reason names the table.
-  run_small(first, "--set \"Gear pair/Pinion/crowning_um=40\"");
+  // The table is an input of the dynamics and the sweep: a new table (of the same pair, at a higher
+  // torque) reruns both, and the reason names the table; the other load is said.
+  run_small(first, "--set Operating/torque_Nm=300");
   const auto again = run_hertzgear(consumer);
   ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("warning: the stiffness table"));
   EXPECT_EQ(stages_that_ran(dir), (std::map<std::string, bool>{{"dynamics", true}, {"sweep", true}}));
   EXPECT_THAT(again.err, HasSubstr("dynamics: runs (input changed: " + (first / "stiffness.json").string()));
 }

@@ -1,0 +1,35 @@
+#include "common/input_file.h"
+
+#include "common/errors.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace hertzgear
+{
+  namespace fs = std::filesystem;
+
+  std::string read_input_file(const fs::path &file, const std::string &what, const std::uintmax_t max_bytes)
+  {
+    const std::string name = what + " " + file.string();
+    std::error_code   ec;
+    const auto        status = fs::status(file, ec); // stat(): opens nothing, so a FIFO cannot block
+    HG_REQUIRE_INPUT(!ec || ec == std::errc::no_such_file_or_directory, name, ": ", ec.message());
+    HG_REQUIRE_INPUT(fs::exists(status), name, ": no such file");
+    HG_REQUIRE_INPUT(!fs::is_directory(status), name, ": is a directory, not a file");
+    HG_REQUIRE_INPUT(fs::is_regular_file(status), name,
+                     ": is not a regular file (a FIFO, device or socket)");
+    const auto size = fs::file_size(file, ec);
+    HG_REQUIRE_INPUT(!ec, name, ": ", ec.message());
+    HG_REQUIRE_INPUT(size <= max_bytes, name, ": is ", size, " bytes, more than the ", max_bytes,
+                     " bytes such a file can be");
+    std::ifstream in(file, std::ios::binary);
+    HG_REQUIRE_INPUT(in.good(), name, ": cannot be read (", std::strerror(errno), ")");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    HG_REQUIRE_INPUT(!in.bad(), name, ": read error");
+    return ss.str();
+  }
+} // namespace hertzgear

@@ -1,0 +1,16 @@
+#pragma once
+// Reading a file the user named (a stiffness table, a scene): only a regular file is opened, and
+// only up to a size limit, so that a FIFO, a device or a directory ends at once with a message
+// instead of hanging or reading until memory runs out.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace hertzgear
+{
+  // The whole content of `file`. Throws InputError "<what> <file>: <reason>" when it does not
+  // exist, is not a regular file (directory, FIFO, device, socket), is larger than max_bytes or
+  // cannot be read.
+  std::string read_input_file(const std::filesystem::path &file, const std::string &what,
+                              std::uintmax_t max_bytes);
+} // namespace hertzgear
