@@ -25,17 +25,12 @@ namespace hertzgear
       return s;
     }
 
-    // Renames the fields written under a temporary name into place, replacing an older folder:
-    // it is moved aside first, so that the folder is never half there.
+    // Renames the fields written under a temporary name into place (the old folder is gone by
+    // then), so that the folder is never half there.
     void commit_fields(const fs::path &partial, const fs::path &fields_dir)
     {
-      if (partial.empty())
-        return;
-      const fs::path old = temporary_path_for(fields_dir);
-      if (fs::exists(fields_dir))
-        fs::rename(fields_dir, old);
-      fs::rename(partial, fields_dir);
-      fs::remove_all(old);
+      if (!partial.empty())
+        fs::rename(partial, fields_dir);
     }
   } // namespace
 
@@ -105,12 +100,12 @@ namespace hertzgear
     if (write_fields && source.uses_fe())
       input.fe.fields_dir = dir.path() / "fields";
     auto result = source.compute(input, timer);
-    // No new table beside the fields of an older one.
-    if (processes::is_root() && input.fe.fields_dir.empty())
-      fs::remove_all(dir.path() / "fields");
     if (processes::is_root())
       {
         PhaseTimer::Scope scope(timer, "write stiffness");
+        // The old fields leave before the new table arrives: an interruption between the table
+        // and the new fields leaves a table without fields, never a new table beside old fields.
+        fs::remove_all(dir.path() / "fields");
         nlohmann::json    json = stiffness::stiffness_json(result);
         json.update(provenance(scene));
         json["pair"] = stiffness::pair_record(input.pair); // ties the table to its pair

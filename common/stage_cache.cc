@@ -160,9 +160,17 @@ namespace hertzgear
         return list.empty() ? std::string("an input artifact changed") :
                               "input changed: " + list;
       }
+    // A manifest vouches only for what it lists: one that lists nothing (or names a place outside
+    // the run folder) vouches for nothing.
+    if (!j.contains("artifacts") || !j.at("artifacts").is_array() || j.at("artifacts").empty())
+      return "its cache manifest lists no artifacts";
     for (const auto &a : j.at("artifacts"))
       {
-        const fs::path p = out / a.at("path").get<std::string>();
+        const fs::path relative = a.at("path").get<std::string>();
+        if (relative.is_absolute() ||
+            std::any_of(relative.begin(), relative.end(), [](const fs::path &part) { return part == ".."; }))
+          return "its cache manifest names " + relative.string() + ", outside the run folder";
+        const fs::path p = out / relative;
         if (!fs::is_regular_file(p))
           return "artifact " + a.at("path").get<std::string>() + " is missing";
         if (fs::file_size(p) != a.at("size_bytes").get<std::uintmax_t>() ||

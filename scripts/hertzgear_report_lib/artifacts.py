@@ -219,6 +219,36 @@ def prm_float(entries, section_suffix, key):
 # The run directory
 # --------------------------------------------------------------------------------------------
 
+def fnv1a_64_hex(path):
+    """The content hash the cache manifests record (common/hash.h: FNV-1a 64, hex)."""
+    h = 0xcbf29ce484222325
+    with open(path, "rb") as f:
+        for byte in f.read():
+            h = ((h ^ byte) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    return "%016x" % h
+
+
+def verified_by_manifests(folder):
+    """The artifacts (absolute paths) that a cache manifest of the run folder lists and that
+    still match their recorded size and hash; None when the folder has no manifests (a folder
+    written by a single command, not by `hertzgear run`)."""
+    cache = os.path.join(folder, ".hertzgear-cache")
+    if not os.path.isdir(cache):
+        return None
+    verified = set()
+    for name in sorted(os.listdir(cache)):
+        try:
+            manifest = load_json(os.path.join(cache, name))
+            for a in manifest.get("artifacts", []):
+                p = os.path.normpath(os.path.join(folder, a["path"]))
+                if (os.path.isfile(p) and os.path.getsize(p) == a["size_bytes"]
+                        and fnv1a_64_hex(p) == a["content_hash"]):
+                    verified.add(p)
+        except Exception:  # an unreadable manifest vouches for nothing
+            continue
+    return verified
+
+
 class Artifacts:
     """Finds each artifact in DIR or its stage sub-folders (the shallowest copy wins)."""
 
@@ -235,6 +265,22 @@ class Artifacts:
         self.accuracy_tables = self._find_accuracy_tables()
         self.notes = []       # problems met while reading, shown on the page
         self._cache = {}
+        self.untrusted = self._untrusted()
+        if self.untrusted:
+            self.notes.append(
+                "Not covered by a verified cache manifest of this run folder, so they may come "
+                "from an interrupted or another run and need not belong with the rest: %s. "
+                "Run `hertzgear run` on the folder again to rebuild them."
+                % ", ".join(sorted(self.untrusted)))
+
+    def _untrusted(self):
+        """Artifacts of a `hertzgear run` folder that no verified manifest covers."""
+        verified = verified_by_manifests(self.run_dir)
+        if verified is None:
+            return []
+        return [os.path.relpath(p, self.run_dir) for name, p in self.paths.items()
+                if os.path.normpath(p) not in verified
+                and name not in ("used_parameters.prm", "run.json")]
 
     def _find_accuracy_tables(self):
         found = []

@@ -242,3 +242,61 @@ TEST(BadInput, ASecondRunOnAFolderInUseStopsAndTheFirstsResultsVerify)
   EXPECT_EQ(again.exit_code, 0) << again.err;
   EXPECT_THAT(again.err, HasSubstr("ran: nothing"));
 }
+
+// Class 10: leftovers and what a manifest vouches for.
+TEST(BadInput, TheStiffnessCommandRemovesTheLeftoversOfAnInterruptedRun)
+{
+  // Requirement: temporaries an interrupted `stiffness` run left (files and a fields folder under
+  // their hidden .hg-partial names) are removed by the next run on the folder.
+  const fs::path dir = fresh_temp_dir("bad_input_leftovers");
+  fs::create_directories(dir / ".fields.hg-partial-1-0");
+  std::ofstream(dir / ".fields.hg-partial-1-0" / "pinion_0000.vtu") << "partial";
+  std::ofstream(dir / ".stiffness.csv.hg-partial-1-1") << "partial";
+  const auto r = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") +
+                               " --set Stiffness/source=iso6336 --out " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const auto &e : fs::recursive_directory_iterator(dir))
+    EXPECT_THAT(e.path().filename().string(), ::testing::Not(HasSubstr("hg-partial"))) << e.path();
+  EXPECT_TRUE(fs::exists(dir / "stiffness.json"));
+}
+
+TEST(BadInput, AManifestThatListsNoArtifactsIsNotTrusted)
+{
+  // Requirement: a stage is reused only when its manifest lists its artifacts and they verify; a
+  // manifest edited to list none (or a path outside the folder) makes the stage run again.
+  const fs::path dir = fresh_temp_dir("bad_input_manifest");
+  ASSERT_EQ(run_hertzgear("run " + fourier_scene + " --out " + quoted(dir)).exit_code, 0);
+  const fs::path manifest = dir / ".hertzgear-cache" / "dynamics.json";
+  for (const nlohmann::json &artifacts :
+       {nlohmann::json::array(),
+        nlohmann::json::array({{{"path", "../elsewhere.csv"}, {"size_bytes", 1}, {"content_hash", "x"}}})})
+    {
+      auto j         = nlohmann::json::parse(slurp(manifest));
+      j["artifacts"] = artifacts;
+      std::ofstream(manifest) << j.dump();
+      const auto r = run_hertzgear("run " + fourier_scene + " --out " + quoted(dir));
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      EXPECT_THAT(r.err, HasSubstr(artifacts.empty() ? "lists no artifacts" : "outside the run folder"));
+      EXPECT_THAT(r.err, HasSubstr("ran: dynamics"));
+    }
+}
+
+// Class 7: the report marks what no verified manifest covers.
+TEST(BadInput, TheReportMarksArtifactsNoVerifiedManifestCovers)
+{
+  // Requirement: in a `hertzgear run` folder, an artifact that no cache manifest vouches for (here
+  // a summary.json replaced after the run, as an interrupted or concurrent run could leave it)
+  // is named on the report page as untrusted; an untouched run has no such note.
+  const fs::path dir = fresh_temp_dir("bad_input_report_trust");
+  ASSERT_EQ(run_hertzgear("run " + scene_path("paper_crowned_fourier.prm") +
+                          " --set Dynamics/periods=60 --set Dynamics/transient_periods=30 --out " + quoted(dir))
+              .exit_code,
+            0);
+  EXPECT_THAT(slurp(dir / "report" / "index.html"), ::testing::Not(HasSubstr("Not covered by a verified")));
+  std::ofstream(dir / "summary.json") << R"({"rms_dte_um": 1.0})";
+  const auto r = run_hertzgear("report " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(slurp(dir / "report" / "index.html"),
+              HasSubstr("Not covered by a verified cache manifest of this run folder"));
+  EXPECT_THAT(slurp(dir / "report" / "index.html"), HasSubstr("summary.json"));
+}
