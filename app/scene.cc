@@ -694,8 +694,24 @@ namespace hertzgear
                 nlohmann::json tree;
                 try
                   {
+                    // A key twice in one object would silently keep the last: refused, naming it.
+                    std::vector<std::set<std::string>> keys;
+                    const auto no_duplicates = [&](const int, const nlohmann::json::parse_event_t event,
+                                                   nlohmann::json &parsed) {
+                      using event_t = nlohmann::json::parse_event_t;
+                      if (event == event_t::object_start)
+                        keys.emplace_back();
+                      else if (event == event_t::object_end && !keys.empty())
+                        keys.pop_back();
+                      else if (event == event_t::key && !keys.empty() &&
+                               !keys.back().insert(parsed.get<std::string>()).second)
+                        throw InputError(msg("scene file ", file.string(), ": the key \"",
+                                             parsed.get<std::string>(),
+                                             "\" appears twice in one object (which one is meant?)"));
+                      return true;
+                    };
                     std::ifstream in(file);
-                    tree = nlohmann::json::parse(in);
+                    tree = nlohmann::json::parse(in, no_duplicates);
                   }
                 catch (const nlohmann::json::exception &e)
                   {
@@ -712,6 +728,10 @@ namespace hertzgear
           {
             // e names the source and the line
             throw InputError(msg("scene file ", e.what()));
+          }
+        catch (const InputError &)
+          {
+            throw; // already names the scene file
           }
         catch (const std::exception &e)
           {

@@ -108,6 +108,10 @@ namespace hertzgear::meshing
                      g1.tip_radius_mm(), " mm) meets the gear below its form circle (roll length ",
                      L - s_E, " mm < ", form2, " mm of the gear's form radius ", g2.form_radius_mm(),
                      " mm)");
+    HG_REQUIRE_INPUT(path_of_contact_mm() > 0, "centre distance ", a_w,
+                     " mm: the gears do not mesh, their tip circles do not reach each other's "
+                     "flanks along the line of action (path of contact ", path_of_contact_mm(),
+                     " mm; the tight-mesh distance is ", a_tight, " mm)");
     HG_REQUIRE_INPUT(contact_ratio() >= 1.0, "contact ratio eps_alpha = ", contact_ratio(),
                      " is below 1: the next tooth pair is not in contact when the previous one "
                      "leaves (path of contact ", path_of_contact_mm(), " mm < base pitch ", p_b,

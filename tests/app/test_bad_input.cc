@@ -300,3 +300,17 @@ TEST(BadInput, TheReportMarksArtifactsNoVerifiedManifestCovers)
               HasSubstr("Not covered by a verified cache manifest of this run folder"));
   EXPECT_THAT(slurp(dir / "report" / "index.html"), HasSubstr("summary.json"));
 }
+
+// Class 9: messages name the key, the file and the reason, once.
+TEST(BadInput, MessagesNameTheKeyTheFileAndTheReasonOnce)
+{
+  const fs::path dir = fresh_temp_dir("bad_input_messages");
+  fs::create_directories(dir);
+  const fs::path duplicate = dir / "duplicate.json";
+  std::ofstream(duplicate) << R"({"Gear pair": {"Pinion": {"teeth": 23, "teeth": 24}}})";
+  expect_refused({"run", quoted(duplicate), "the key \"teeth\" appears twice"});
+  expect_refused({"run", fourier_scene + " --set Operating/center_distance_mm=100 --set Operating/backlash_mm=0",
+                  "centre distance 100 mm: the gears do not mesh"});
+  const auto r = run_hertzgear("check " + quoted(duplicate));
+  EXPECT_EQ(r.err.find("scene file"), r.err.rfind("scene file")) << "named twice: " << r.err;
+}
