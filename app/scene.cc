@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <set>
@@ -549,12 +550,32 @@ namespace hertzgear
     }
 
 
-    void apply_override(SceneSchema &schema, const std::string &text)
+    // User text as a message shows it: control and non-ASCII bytes as \xNN, and at most 80
+    // characters with the length of the rest, so that a message stays a line.
+    std::string shown(const std::string &text)
     {
-      const auto eq = text.find('=');
+      std::string out;
+      for (const unsigned char c : text.substr(0, 80))
+        if (c < 0x20 || c >= 0x7f)
+          {
+            char code[8];
+            std::snprintf(code, sizeof(code), "\\x%02x", c);
+            out += code;
+          }
+        else
+          out += static_cast<char>(c);
+      if (text.size() > 80)
+        out += msg("... (", text.size(), " characters)");
+      return out;
+    }
+
+    void apply_override(SceneSchema &schema, const std::string &full_text)
+    {
+      const std::string text = shown(full_text);
+      const auto eq = full_text.find('=');
       HG_REQUIRE_INPUT(eq != std::string::npos && eq > 0,
                        "--set \"", text, "\": expected \"Section/Subsection/key=value\"");
-      const std::string path  = text.substr(0, eq);
+      const std::string path  = full_text.substr(0, eq);
       const auto        slash = path.rfind('/');
       HG_REQUIRE_INPUT(slash != std::string::npos,
                        "--set \"", text, "\": the key must name its section, e.g. "
@@ -567,12 +588,12 @@ namespace hertzgear
       const std::string section = trim(path.substr(0, slash));
       const std::string key     = trim(path.substr(slash + 1));
       const EntryInfo  *entry   = schema.find(section, key);
-      HG_REQUIRE_INPUT(entry != nullptr, "--set \"", text, "\": unknown key \"", key,
-                       "\" in section \"", section, "\" (see `hertzgear defaults`)");
-      const std::string value = trim(text.substr(eq + 1));
+      HG_REQUIRE_INPUT(entry != nullptr, "--set \"", text, "\": unknown key \"", shown(key),
+                       "\" in section \"", shown(section), "\" (see `hertzgear defaults`)");
+      const std::string value = trim(full_text.substr(eq + 1));
 
       HG_REQUIRE_INPUT(schema.prm.find(section, key)->pattern().match(value), "--set \"", text,
-                       "\": value \"", value, "\" for ", section, "/", key,
+                       "\": value \"", shown(value), "\" for ", section, "/", key,
                        " is not allowed; allowed: ", entry->allowed);
       try
         {

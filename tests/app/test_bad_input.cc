@@ -313,4 +313,14 @@ TEST(BadInput, MessagesNameTheKeyTheFileAndTheReasonOnce)
                   "centre distance 100 mm: the gears do not mesh"});
   const auto r = run_hertzgear("check " + quoted(duplicate));
   EXPECT_EQ(r.err.find("scene file"), r.err.rfind("scene file")) << "named twice: " << r.err;
+  // A 60 000-character key is shown shortened with its length; bytes that are no text as \xNN.
+  const auto long_key = run_hertzgear("check " + fourier_scene + " --set 'Stiffness/" +
+                                      std::string(60000, 'k') + "=1'");
+  EXPECT_EQ(long_key.exit_code, 2);
+  EXPECT_THAT(long_key.err, HasSubstr("(60000 characters)"));
+  EXPECT_LT(long_key.err.size(), 1000u) << "the key is echoed whole";
+  const auto binary =
+    run_hertzgear("check " + fourier_scene + " --set \"$(printf 'Stiffness/ab\\001c=1')\"");
+  EXPECT_EQ(binary.exit_code, 2);
+  EXPECT_THAT(binary.err, HasSubstr("ab\\x01c"));
 }
