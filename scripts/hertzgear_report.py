@@ -17,6 +17,7 @@ Exit codes: 0 report written, 2 DIR missing or holding no artifact, 1 anything e
 
 import argparse
 import os
+import shutil
 import sys
 
 HERE = os.path.dirname(os.path.realpath(__file__))
@@ -66,9 +67,29 @@ def main(argv=None):
             % (run_dir, ", ".join(artifacts.ARTIFACT_NAMES),
                ", ".join(f + "/" for f in artifacts.STAGE_FOLDERS if f)))
         return artifacts.EXIT_BAD_INPUT
-    figure_files, index = report.write_report(art, out_dir)
+    figure_files = write_report_folder(art, out_dir)
+    index = os.path.join(out_dir, "index.html")
     sys.stderr.write("hertzgear report: %d figures, %s\n" % (len(figure_files), index))
     return 0
+
+
+def write_report_folder(art, out_dir):
+    """The report is drawn into a hidden folder beside out_dir and swapped in whole when done, so
+    an interrupted report leaves the older report or none, never a page mixing the two."""
+    parent, name = os.path.split(out_dir)
+    os.makedirs(parent, exist_ok=True)
+    marker = "." + name + artifacts.PARTIAL_MARKER
+    for leftover in os.listdir(parent):
+        if leftover.startswith(marker):
+            shutil.rmtree(os.path.join(parent, leftover), ignore_errors=True)
+    partial = os.path.join(parent, "%snew-%d" % (marker, os.getpid()))
+    figure_files, _ = report.write_report(art, partial)
+    old = os.path.join(parent, "%sold-%d" % (marker, os.getpid()))
+    if os.path.isdir(out_dir):
+        os.rename(out_dir, old)
+    os.rename(partial, out_dir)
+    shutil.rmtree(old, ignore_errors=True)
+    return figure_files
 
 
 if __name__ == "__main__":

@@ -294,7 +294,12 @@ TEST(BadInput, TheReportMarksArtifactsNoVerifiedManifestCovers)
             0);
   EXPECT_THAT(slurp(dir / "report" / "index.html"), ::testing::Not(HasSubstr("Not covered by a verified")));
   std::ofstream(dir / "summary.json") << R"({"rms_dte_um": 1.0})";
+  // The half-drawn report of an interrupted report stage (it is drawn beside report/ and swapped
+  // in whole): removed, and never shown.
+  fs::create_directories(dir / ".report.hg-partial-new-1");
+  std::ofstream(dir / ".report.hg-partial-new-1" / "index.html") << "half";
   const auto r = run_hertzgear("report " + quoted(dir));
+  EXPECT_FALSE(fs::exists(dir / ".report.hg-partial-new-1"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(slurp(dir / "report" / "index.html"),
               HasSubstr("Not covered by a verified cache manifest of this run folder"));
