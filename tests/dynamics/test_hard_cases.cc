@@ -113,12 +113,7 @@ TEST_P(HardCasesAdaptive, GrazingContactWithExponent15)
 // through the backlash onto the back flanks.
 TEST_P(HardCasesAdaptive, DoubleSidedImpactsNearResonance)
 {
-  auto p                       = paper_crowned();
-  p.static_force_N             = 50.0;
-  p.mesh_frequency_rad_per_s   = 2 * M_PI * 3300.0;
-  p.stiffness.unloaded_ste_m   = {0.0, {30e-6}, {0.0}};
-  p.stiffness.has_unloaded_ste = true;
-  p.effects.ste_excitation     = true;
+  const auto p                 = backside_impact_pair();
   const Outcome o              = run(p, GetParam(), 1e-8, 60, 40);
   EXPECT_GT(o.backside_impacts, 0) << "the case must reach the back flanks";
   expect_converged(p, GetParam(), 60, 40, 1000.0, 1e-2, {}, "double-sided");

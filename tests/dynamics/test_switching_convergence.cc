@@ -124,12 +124,7 @@ TEST(SwitchingConvergence, ContactLossEveryIntegrator)
 // flanks).
 TEST(SwitchingConvergence, BacksideImpactsEveryIntegrator)
 {
-  auto p                       = paper_crowned();
-  p.static_force_N             = 50.0;
-  p.mesh_frequency_rad_per_s   = 2 * M_PI * 3300.0;
-  p.stiffness.unloaded_ste_m   = {0.0, {30e-6}, {0.0}};
-  p.stiffness.has_unloaded_ste = true;
-  p.effects.ste_excitation     = true;
+  const auto p                 = backside_impact_pair();
   {
     GearPairModel model(p);
     const auto    r = simulate(model, run_settings(IntegratorKind::radau_iia, 1e-10, 1e-15, 20, 10),
