@@ -29,19 +29,24 @@ namespace hertzgear::dynamics::testing
     return p;
   }
 
-  // Double-sided impacts near the primary resonance at low load: a 30 um transmission-error
-  // excitation at the mesh natural frequency (about 3.3 kHz at F_0 = 50 N) drives the teeth
-  // through the backlash onto the back flanks (data/scenes/backside_impacts_fourier.prm).
-  inline GearPairParameters backside_impact_pair()
+  // The crowned pair driven by a transmission-error excitation of `ste_amplitude_m` at mesh
+  // frequency `mesh_frequency_hz` under the static load `static_force_N`.
+  inline GearPairParameters ste_driven_pair(const double static_force_N, const double mesh_frequency_hz,
+                                            const double ste_amplitude_m)
   {
     auto p                       = paper_crowned();
-    p.static_force_N             = 50.0;
-    p.mesh_frequency_rad_per_s   = 2 * M_PI * 3300.0;
-    p.stiffness.unloaded_ste_m   = {0.0, {30e-6}, {0.0}};
+    p.static_force_N             = static_force_N;
+    p.mesh_frequency_rad_per_s   = 2 * M_PI * mesh_frequency_hz;
+    p.stiffness.unloaded_ste_m   = {0.0, {ste_amplitude_m}, {0.0}};
     p.stiffness.has_unloaded_ste = true;
     p.effects.ste_excitation     = true;
     return p;
   }
+
+  // Double-sided impacts near the primary resonance at low load: a 30 um transmission-error
+  // excitation at the mesh natural frequency (about 3.3 kHz at F_0 = 50 N) drives the teeth
+  // through the backlash onto the back flanks (data/scenes/backside_impacts_fourier.prm).
+  inline GearPairParameters backside_impact_pair() { return ste_driven_pair(50.0, 3300.0, 30e-6); }
 
   // The crowned pair of data/scenes/paper_crowned_table.prm as `hertzgear dynamics` resolves it
   // (the shipped FE table data/stiffness/paper_crowned.json, k constant at its mean, c from

@@ -131,12 +131,7 @@ TEST_P(HardCasesAdaptive, ZeroBacklash)
 // half backlash) drives the teeth, which hit both flanks.
 TEST_P(HardCasesAdaptive, RattleWithoutLoad)
 {
-  auto p                       = paper_crowned();
-  p.static_force_N             = 0.0;
-  p.mesh_frequency_rad_per_s   = 2 * M_PI * 1000.0;
-  p.stiffness.unloaded_ste_m   = {0.0, {100e-6}, {0.0}};
-  p.stiffness.has_unloaded_ste = true;
-  p.effects.ste_excitation     = true;
+  const auto p = ste_driven_pair(0.0, 1000.0, 100e-6);
   EXPECT_GT(run(p, GetParam(), 1e-8, 60, 40).backside_impacts, 0);
   expect_converged(p, GetParam(), 60, 40, 1000.0, 1e-2, {}, "rattle");
 }
