@@ -519,14 +519,21 @@ namespace hertzgear::dynamics
     return os.str();
   }
 
-  std::vector<double> GearPairModel::blow_up_bounds() const
+  std::vector<double> GearPairModel::state_scales() const
   {
-    // 10^4 times the characteristic displacement (and the matching speed at the highest natural
-    // frequency) is far outside any physical response of the pair: a blow-up.
     const double k_max = prm.stiffness.k_rest_N_per_m.mean + prm.stiffness.k_rest_N_per_m.amplitude_bound();
     const double omega = std::sqrt(k_max / prm.equivalent_mass_kg) + prm.mesh_frequency_rad_per_s;
-    std::vector<double> b(n_states(), 1.0e4 * x_scale);
-    b[1] = 1.0e4 * x_scale * omega;
+    std::vector<double> s(n_states(), x_scale);
+    s[1] = x_scale * omega;
+    return s;
+  }
+
+  std::vector<double> GearPairModel::blow_up_bounds() const
+  {
+    // 10^4 times the state's scale is far outside any physical response of the pair: a blow-up.
+    std::vector<double> b = state_scales();
+    for (double &v : b)
+      v *= 1.0e4;
     return b;
   }
 

@@ -103,6 +103,9 @@ namespace hertzgear::dynamics
     std::vector<double> absolute_tolerances(double displacement_tolerance) const override;
     std::string         describe_state(const double *y) const override;
     std::vector<double> blow_up_bounds() const override;
+    // A characteristic size per state component: the characteristic displacement for x and
+    // delta, and that times the highest natural frequency plus the mesh frequency for x'.
+    std::vector<double> state_scales() const;
 
     MeshState mesh_state(double t, const double *y) const;
 

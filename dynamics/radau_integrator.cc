@@ -64,7 +64,8 @@ namespace hertzgear::dynamics
 {
   namespace
   {
-    constexpr int n_max = 8; // largest state dimension handled (the gear pair has 2 or 3)
+    constexpr int n_max = 12; // largest state dimension handled (the gear pair has 2 or 3, 12 with
+                              // its sensitivities, periodic_orbit.h)
     constexpr int s_max = 9; // largest number of stages
 
     using cplx  = std::complex<double>;
