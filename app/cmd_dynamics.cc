@@ -281,6 +281,11 @@ namespace hertzgear
   SweepStageOutput run_sweep_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer,
                                    const int n_threads_requested)
   {
+    if (scene.sweep.mode == "shooting")
+      {
+        const auto out = run_response_stage(scene, dir, timer, true);
+        return {out.csv, out.json["integrator"]};
+      }
     SweepSettings settings;
     try
       {

@@ -40,4 +40,16 @@ namespace hertzgear
   // mpirun (every rank calls it). Used by `hertzgear sweep` and `hertzgear run`.
   SweepStageOutput run_sweep_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer,
                                    int n_threads);
+
+  struct ResponseStageOutput
+  {
+    std::string    csv;  // what response.csv holds
+    nlohmann::json json; // what response.json holds
+  };
+  // The periodic orbits of Response/* followed by continuation (the engine is
+  // dynamics/continuation.h): writes response.csv and response.json into `dir` when given. With
+  // `speed_sweep` the parameter is the speed over Sweep/speed_min_rpm ... speed_max_rpm
+  // (Sweep/mode = shooting). Used by `hertzgear response`, `hertzgear sweep` and `hertzgear run`.
+  ResponseStageOutput run_response_stage(Scene scene, const RunDirectory *dir, PhaseTimer &timer,
+                                         bool speed_sweep);
 } // namespace hertzgear

@@ -62,6 +62,7 @@ namespace hertzgear
   // Registration functions, one per command file.
   void add_scene_commands(CommandRegistry &registry); // check, defaults
   void add_dynamics_commands(CommandRegistry &registry); // dynamics, sweep, accuracy dynamics
+  void add_response_command(CommandRegistry &registry);  // response
   void add_geometry_commands(CommandRegistry &registry); // geometry
   void add_report_command(CommandRegistry &registry); // report
   void add_stiffness_commands(CommandRegistry &registry); // stiffness

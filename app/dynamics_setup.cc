@@ -143,4 +143,57 @@ namespace hertzgear
             {"k_hertz_mean_N_per_m_pow_n", p.stiffness.k_hertz_N_per_m_pow_n.mean},
             {"stiffness_source", p.stiffness.source}};
   }
+  ResponseFamily response_family(const Scene &scene, const DynamicsSetup &setup)
+  {
+    ResponseFamily    f;
+    const auto        base = setup.parameters;
+    const auto       &r    = scene.response;
+    const auto       &d    = scene.dynamics;
+    const double      r_b1 = setup.pinion_base_radius_m;
+    // The damping of the scene at the static force F_0 (a ratio keeps its ratio).
+    const auto damping_at = [base, &d](dynamics::GearPairParameters p, const double zeta) {
+      if (d.damping_from == "ratio")
+        p.damping_N_s_per_m =
+          2.0 * zeta *
+          std::sqrt(dynamics::equivalent_mesh_stiffness(p.stiffness, p.effects.hertzian_layer,
+                                                        p.static_force_N) *
+                    p.equivalent_mass_kg);
+      return p;
+    };
+    f.column = r.parameter;
+    if (r.parameter == "speed_rpm")
+      {
+        f.key    = "Operating/speed_rpm";
+        f.min    = scene.sweep.speed_min_rpm;
+        f.max    = scene.sweep.speed_max_rpm;
+        f.family = {"speed_rpm", [base, rpm = setup.speed_rpm](const double lambda) {
+                      return dynamics::at_speed(base, rpm, lambda);
+                    }};
+      }
+    else if (r.parameter == "torque_Nm")
+      {
+        f.key    = "Operating/torque_Nm";
+        f.min    = r.torque_min_Nm;
+        f.max    = r.torque_max_Nm;
+        f.family = {"torque_Nm", [base, r_b1, damping_at, zeta = d.damping_ratio](const double T) {
+                      auto p           = base;
+                      p.static_force_N = T / r_b1;
+                      return damping_at(p, zeta);
+                    }};
+      }
+    else
+      {
+        HG_REQUIRE_INPUT(r.parameter == "damping_ratio", "Response/parameter = ", r.parameter,
+                         " is not one of speed_rpm, torque_Nm, damping_ratio");
+        HG_REQUIRE_INPUT(d.damping_from == "ratio",
+                         "Response/parameter = damping_ratio needs Dynamics/damping_from = ratio "
+                         "(the scene gives the damping as a coefficient)");
+        f.key    = "Dynamics/damping_ratio";
+        f.min    = r.damping_ratio_min;
+        f.max    = r.damping_ratio_max;
+        f.family = {"damping_ratio",
+                    [base, damping_at](const double zeta) { return damping_at(base, zeta); }};
+      }
+    return f;
+  }
 } // namespace hertzgear

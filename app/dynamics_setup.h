@@ -3,6 +3,7 @@
 // of the gear-pair model, and where the stiffness source of the scene is resolved.
 #include "app/scene.h"
 #include "dynamics/analysis.h"
+#include "dynamics/continuation.h"
 #include "dynamics/gear_pair_model.h"
 #include "dynamics/sweep.h"
 
@@ -32,6 +33,19 @@ namespace hertzgear
 
   // Throws InputError for a scene the dynamics cannot run (unknown source, c = 0 without ida...).
   DynamicsSetup make_dynamics_setup(const Scene &scene);
+
+  // The continuation parameter of Response/parameter as a family of models (speed: the mesh
+  // frequency; torque: F_0 = T / r_b1 and, with Dynamics/damping_from = ratio, the damping of
+  // the linearised stiffness at that load; damping ratio: c = 2 zeta sqrt(k_eq m_e)), and its
+  // range in the scene's units (rpm, N m, or none).
+  struct ResponseFamily
+  {
+    dynamics::ParameterFamily family;
+    std::string               key;   // the scene key of the parameter ("Operating/speed_rpm" ...)
+    std::string               column; // response.csv's column: speed_rpm, torque_Nm, damping_ratio
+    double                    min = 0, max = 0;
+  };
+  ResponseFamily response_family(const Scene &scene, const DynamicsSetup &setup);
 
   // Dynamics/initial_state (static equilibrium or the given values) in SI units.
   dynamics::InitialState initial_state(const Scene &scene);

@@ -42,6 +42,7 @@ int main(int argc, char **argv)
     registry.command_line += (i ? " " : "") + std::string(argv[i]);
   add_scene_commands(registry);
   add_dynamics_commands(registry);
+  add_response_command(registry);
   add_geometry_commands(registry);
   add_report_command(registry);
   add_stiffness_commands(registry);

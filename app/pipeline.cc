@@ -118,6 +118,7 @@ namespace hertzgear
       {
         auto prefixes = dynamics;
         prefixes.push_back("Sweep");
+        prefixes.push_back("Response");
         return values(scene, prefixes, {"Output/report", "Output/timeseries_periods"});
       }
     if (stage == "report")
@@ -141,9 +142,13 @@ namespace hertzgear
                                       "fourier: no meshing, no FE)") :
                           std::string("on the stiffness table of the stiffness stage"));
     if (scene.sweep.enabled)
-      stages.emplace_back("sweep", msg("Sweep/enabled = true: ", scene.sweep.points, " speeds from ",
-                                       scene.sweep.speed_min_rpm, " to ", scene.sweep.speed_max_rpm,
-                                       " rpm"));
+      stages.emplace_back("sweep", scene.sweep.mode == "shooting" ?
+                                     msg("Sweep/enabled = true, Sweep/mode = shooting: periodic "
+                                         "orbits followed from ", scene.sweep.speed_min_rpm, " to ",
+                                         scene.sweep.speed_max_rpm, " rpm") :
+                                     msg("Sweep/enabled = true: ", scene.sweep.points,
+                                         " speeds from ", scene.sweep.speed_min_rpm, " to ",
+                                         scene.sweep.speed_max_rpm, " rpm"));
     if (scene.output.report)
       stages.emplace_back("report", "Output/report = true: report/index.html");
     return stages;
@@ -321,7 +326,9 @@ namespace hertzgear
               artifacts.push_back(to);
           }
         else if (stage == "sweep")
-          artifacts = sweep_artifacts;
+          artifacts = scene.sweep.mode == "shooting" ?
+                        std::vector<std::string>{"response.csv", "response.json"} :
+                        sweep_artifacts;
         else if (stage == "report")
           artifacts = files_below(out, "report");
         return artifacts;

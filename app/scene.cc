@@ -502,14 +502,70 @@ namespace hertzgear
       s.add("points", w.points, Patterns::Integer(2, 100000), "Speeds in the sweep (count).");
       s.add("direction", w.direction, Patterns::Selection("up|down|both"),
             "Continuation direction: up, down or both.");
-      s.add("mode", w.mode, Patterns::Selection("continuation|independent|both"),
-            "continuation (each point starts from the last state) and/or independent points from "
-            "the initial state (for bifurcation diagrams).");
+      s.add("mode", w.mode, Patterns::Selection("continuation|independent|both|shooting"),
+            "Time marching: continuation (each point starts from the last state) and/or "
+            "independent points from the initial state (for bifurcation diagrams); or shooting: "
+            "the periodic orbits themselves, followed over the speed range by arclength "
+            "continuation with their stability (Response/*, docs/dynamics.md; writes "
+            "response.csv instead of sweep.csv).");
       s.add("periods_per_point", w.periods_per_point, Patterns::Integer(1, 10000000),
             "Mesh periods integrated per sweep point (count).");
       s.add("transient_periods_per_point", w.transient_periods_per_point,
             Patterns::Integer(0, 10000000),
             "Leading mesh periods discarded per sweep point (count); < periods_per_point.");
+      s.leave();
+    }
+
+    void declare_response(SceneSchema &s, ResponseScene &r)
+    {
+      r.parameter                = "speed_rpm";
+      r.torque_min_Nm            = 10.0;
+      r.torque_max_Nm            = 500.0;
+      r.damping_ratio_min        = 0.001;
+      r.damping_ratio_max        = 0.1;
+      r.start                    = "low";
+      r.step_max                 = 0.02;
+      r.max_points_per_branch    = 2000;
+      r.period_doubling_branches = 3;
+      r.newton_tolerance         = 1.0e-6;
+      r.samples_per_period       = 100;
+      s.enter("Response",
+              "Periodic orbits found by shooting and followed by pseudo-arclength continuation "
+              "(hertzgear response, or hertzgear sweep with Sweep/mode = shooting): stable and "
+              "unstable branches, Floquet multipliers, folds, period doublings and "
+              "Neimark-Sacker points (docs/dynamics.md).");
+      s.add("parameter", r.parameter, Patterns::Selection("speed_rpm|torque_Nm|damping_ratio"),
+            "The continuation parameter: speed_rpm (range Sweep/speed_min_rpm ... "
+            "Sweep/speed_max_rpm), torque_Nm (range torque_min_Nm ... torque_max_Nm) or "
+            "damping_ratio (range damping_ratio_min ... damping_ratio_max; the mesh damping "
+            "from the ratio).");
+      s.add("torque_min_Nm", r.torque_min_Nm, Patterns::Double(1.0e-6, 1.0e7),
+            "Lowest pinion torque of a torque continuation [N m].");
+      s.add("torque_max_Nm", r.torque_max_Nm, Patterns::Double(1.0e-6, 1.0e7),
+            "Highest pinion torque of a torque continuation [N m].");
+      s.add("damping_ratio_min", r.damping_ratio_min, Patterns::Double(1.0e-6, 2.0),
+            "Lowest mesh damping ratio of a damping continuation (dimensionless).");
+      s.add("damping_ratio_max", r.damping_ratio_max, Patterns::Double(1.0e-6, 2.0),
+            "Highest mesh damping ratio of a damping continuation (dimensionless).");
+      s.add("start", r.start, Patterns::Selection("low|high"),
+            "The end of the range the continuation starts from (its orbit found by shooting "
+            "from Dynamics/initial_state): low or high.");
+      s.add("step_max", r.step_max, Patterns::Double(1.0e-5, 0.5),
+            "Largest continuation step, as a fraction of the parameter range in the scaled "
+            "arclength (dimensionless).");
+      s.add("max_points_per_branch", r.max_points_per_branch, Patterns::Integer(2, 1000000),
+            "Most points on one branch (count).");
+      s.add("period_doubling_branches", r.period_doubling_branches, Patterns::Integer(0, 100),
+            "Period-doubled branches followed from the period doublings found (count; 0: "
+            "none).");
+      s.add("newton_tolerance", r.newton_tolerance, Patterns::Double(1.0e-14, 1.0e-3),
+            "Newton's method stops when its correction is below this fraction of the state's "
+            "scale (dimensionless); at least 10 Dynamics/relative_tolerance, since the period "
+            "map is only as smooth as the integration across its switching events (100 is "
+            "safer).");
+      s.add("samples_per_period", r.samples_per_period, Patterns::Integer(8, 100000),
+            "Samples per mesh period of each orbit's analysis (RMS DTE; extremes from the dense "
+            "output) (count).");
       s.leave();
     }
 
@@ -546,6 +602,7 @@ namespace hertzgear
       declare_mesh(s, sc.mesh);
       declare_dynamics(s, sc.dynamics);
       declare_sweep(s, sc.sweep);
+      declare_response(s, sc.response);
       declare_output(s, sc.output);
     }
 
@@ -682,6 +739,13 @@ namespace hertzgear
       HG_REQUIRE_INPUT(w.speed_min_rpm < w.speed_max_rpm, "Sweep/speed_min_rpm = ",
                        w.speed_min_rpm, " must be less than Sweep/speed_max_rpm = ",
                        w.speed_max_rpm);
+      const auto &r = sc.response;
+      HG_REQUIRE_INPUT(r.torque_min_Nm < r.torque_max_Nm, "Response/torque_min_Nm = ",
+                       r.torque_min_Nm, " must be less than Response/torque_max_Nm = ",
+                       r.torque_max_Nm);
+      HG_REQUIRE_INPUT(r.damping_ratio_min < r.damping_ratio_max, "Response/damping_ratio_min = ",
+                       r.damping_ratio_min, " must be less than Response/damping_ratio_max = ",
+                       r.damping_ratio_max);
       HG_REQUIRE_INPUT(w.transient_periods_per_point < w.periods_per_point,
                        "Sweep/transient_periods_per_point = ", w.transient_periods_per_point,
                        " must be less than Sweep/periods_per_point = ", w.periods_per_point);

@@ -135,6 +135,20 @@ namespace hertzgear
     int         transient_periods_per_point = 0;
   };
 
+  // Periodic orbits followed by continuation (hertzgear response, or Sweep/mode = shooting).
+  struct ResponseScene
+  {
+    std::string parameter; // speed_rpm | torque_Nm | damping_ratio
+    double      torque_min_Nm = 0, torque_max_Nm = 0;
+    double      damping_ratio_min = 0, damping_ratio_max = 0;
+    std::string start; // low | high: the end of the range the continuation starts from
+    double      step_max      = 0; // fraction of the range per step (scaled arclength)
+    int         max_points_per_branch = 0;
+    int         period_doubling_branches = 0;
+    double      newton_tolerance = 0; // relative to the state scale
+    int         samples_per_period = 0;
+  };
+
   struct OutputScene
   {
     int  timeseries_periods = 0;
@@ -153,6 +167,7 @@ namespace hertzgear
     MeshScene             mesh;
     DynamicsScene         dynamics;
     SweepScene            sweep;
+    ResponseScene         response;
     OutputScene           output;
 
     // The whole parameter set as resolved (defaults + file + overrides), in .prm form.

@@ -107,12 +107,14 @@ namespace hertzgear::dynamics
     {
       auto          *d = static_cast<CallbackData *>(user_data);
       const unsigned n = d->system->n_states();
-      double         jac[16];
-      d->system->jacobian(t, N_VGetArrayPointer(y), jac);
+      // Any state dimension (the gear pair's 2 or 3, and 12 with its sensitivities).
+      thread_local std::vector<double> jac;
+      jac.resize(std::size_t(n) * n);
+      d->system->jacobian(t, N_VGetArrayPointer(y), jac.data());
       for (unsigned i = 0; i < n; ++i)
         for (unsigned j = 0; j < n; ++j)
           SM_ELEMENT_D(J, i, j) = jac[i * n + j];
-      return all_finite(jac, n * n) ? 0 : 1;
+      return all_finite(jac.data(), n * n) ? 0 : 1;
     }
 
     int residual_callback(realtype t, N_Vector y, N_Vector y_dot, N_Vector r, void *user_data)

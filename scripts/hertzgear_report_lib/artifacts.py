@@ -26,7 +26,8 @@ STAGE_FOLDERS = ("", "stiffness", "dynamics", "sweep", "accuracy")
 ARTIFACT_NAMES = (
     "stiffness.csv", "stiffness.json", "stiffness_map.csv", "contact_pattern.csv",
     "timeseries.csv", "poincare.csv", "spectrum.csv", "force_penetration.csv", "summary.json",
-    "sweep.csv", "bifurcation.csv", "used_parameters.prm", "run.json",
+    "sweep.csv", "bifurcation.csv", "response.csv", "response.json", "used_parameters.prm",
+    "run.json",
 )
 
 # In the name of a temporary file, between its leading dot and final name and a random tail.

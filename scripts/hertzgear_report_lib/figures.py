@@ -1040,6 +1040,80 @@ def sweep_rms(sec, scene, sw):
             "branches (a jump, typical of the softening backlash nonlinearity).")
 
 
+# --------------------------------------------------------------------------------------------
+# Periodic orbits by shooting and continuation
+# --------------------------------------------------------------------------------------------
+
+BIFURCATION_MARKERS = {"fold": ("s", "fold"), "period-doubling": ("D", "period doubling"),
+                       "neimark-sacker": ("o", "Neimark–Sacker")}
+
+
+def branch_runs(stable):
+    """Index ranges [a, b] of equal stability along a branch; neighbouring runs share their
+    boundary point so that the curve stays connected."""
+    runs, a = [], 0
+    for i in range(1, len(stable) + 1):
+        if i == len(stable) or stable[i] != stable[a]:
+            runs.append((a, min(i, len(stable) - 1), bool(stable[a])))
+            a = i
+    return runs
+
+
+def response_curves(sec, scene, resp, sw=None):
+    """The frequency (or torque, or damping) response of the periodic orbits: RMS DTE per branch,
+    stable solid and unstable dashed, bifurcations marked; below, the largest Floquet
+    multiplier modulus. Time-marched sweep points, when there are any, on top as dots."""
+    x_col = resp.names[0]
+    rms, branch, stable = resp.find("rms_dte"), resp.find("branch"), resp.find("stable")
+    mu, bif, period = resp.find("max_multiplier"), resp.find("bifurcation"), resp.find("period")
+    if not (rms and branch and stable and mu):
+        sec.note("response.csv lacks rms_dte, branch, stable or max_multiplier columns.")
+        return
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6.8), sharex=True,
+                             gridspec_kw={"height_ratios": [2.2, 1]})
+    x = resp[x_col]
+    labelled = set()
+    for i, b in enumerate(unique_in_order(resp[branch])):
+        m = np.where(resp[branch] == b)[0]
+        color = COLORS[i % len(COLORS)]
+        k = int(resp[period][m[0]]) if period else 1
+        name = "branch %d (period %d)" % (int(b), k)
+        for a, e, st in branch_runs(resp[stable][m] > 0.5):
+            idx = m[a:e + 1]
+            text = name + (", stable" if st else ", unstable")
+            axes[0].plot(x[idx], resp[rms][idx], "-" if st else "--", color=color, lw=1.6 if st else 1.1,
+                         label=None if text in labelled else text)
+            labelled.add(text)
+            axes[1].plot(x[idx], resp[mu][idx], "-" if st else "--", color=color, lw=1.2)
+    if bif and resp[bif].dtype == object:
+        for kind, (marker, text) in BIFURCATION_MARKERS.items():
+            m = resp[bif] == kind
+            if m.any():
+                axes[0].plot(x[m], resp[rms][m], marker, ms=7, mfc="none", mec="k", mew=1.3,
+                             ls="none", label=text)
+                axes[1].plot(x[m], resp[mu][m], marker, ms=6, mfc="none", mec="k", mew=1.1,
+                             ls="none")
+    if sw is not None:
+        sp, srms = sw.find("speed_rpm", "speed"), sw.find("rms_dte", "rms")
+        if sp and srms and x_col.startswith("speed"):
+            axes[0].plot(sw[sp], sw[srms], ".", color="#777777", ms=4,
+                         label="time marching (sweep.csv)")
+    axes[1].axhline(1.0, color="k", lw=0.8, ls=":")
+    axes[0].set_ylabel(label("RMS DTE", rms))
+    title_and_legend(axes[0], "Periodic orbits: RMS of the DTE", ncol=3)
+    axes[1].set_ylabel("largest |μ| (–)")
+    axes[1].set_xlabel(label(x_col.replace("_", " ").split(" ")[0], x_col))
+    axes[1].set_title("Largest Floquet multiplier modulus (stable below 1)", loc="left")
+    publish(sec, "response_rms.png", fig,
+            "Periodic orbits found by shooting and followed by pseudo-arclength continuation "
+            "(response.csv): RMS of the DTE per branch, solid where the orbit is stable (every "
+            "Floquet multiplier inside the unit circle), dashed where it is unstable; squares "
+            "mark folds (a multiplier through +1: the jumps of a sweep), diamonds period "
+            "doublings (−1), circles Neimark–Sacker points (a complex pair). Below: the largest "
+            "multiplier modulus. Grey dots, when present, are the time-marched sweep points "
+            "(sweep.csv), which only ever land on stable branches.")
+
+
 def bifurcation(sec, scene, bif):
     columns = speed_and(sec, bif, "bifurcation.csv", "Poincaré DTE", "poincare_dte", "dte")
     if not columns:

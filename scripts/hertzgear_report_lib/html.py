@@ -133,6 +133,27 @@ def map_table(cases, n_positions):
             "<tbody>%s</tbody></table></details>" % (len(cases), positions, head, rows))
 
 
+def response_tables(js):
+    """The bifurcations and the branches of response.json."""
+    param = html.escape(str(js.get("parameter", "parameter")))
+    rows = "".join("<tr><td>%s</td><td>%s</td><td>%s</td><td>%s</td><td>%s</td></tr>" % (
+        html.escape(str(b.get("type"))), fmt(b.get(js.get("parameter"))), b.get("branch"),
+        fmt(b.get("rms_dte_um")), html.escape(str(b.get("multipliers"))))
+        for b in js.get("bifurcations", []))
+    out = ("<h3>Bifurcations (response.json)</h3><table class=\"data\"><thead><tr><th>type</th>"
+           "<th>%s</th><th>branch</th><th>RMS DTE (µm)</th><th>Floquet multipliers</th></tr>"
+           "</thead><tbody>%s</tbody></table>" % (param, rows or
+                                                   "<tr><td colspan=5>none found</td></tr>"))
+    rows = "".join("<tr><td>%s</td><td>%s</td><td>%s</td><td>%s</td><td>%s</td><td>%s</td></tr>" % (
+        b.get("id"), b.get("period_multiple"), fmt(b.get("start")), b.get("points"),
+        b.get("stable_points"), html.escape(str(b.get("end_reason"))))
+        for b in js.get("branches", []))
+    out += ("<h3>Branches</h3><table class=\"data\"><thead><tr><th>branch</th><th>period</th>"
+            "<th>starts at %s</th><th>orbits</th><th>stable</th><th>ends</th></tr></thead>"
+            "<tbody>%s</tbody></table>" % (param, rows))
+    return out
+
+
 def csv_table(table):
     head = "".join("<th>%s</th>" % html.escape(n) for n in table.names)
     rows = ""

@@ -13,7 +13,8 @@ import matplotlib
 from . import figures
 from .artifacts import (LoadMap, Scene, Table, remove_stale_temporaries, samples_table,
                         write_text_atomically)
-from .html import (Page, csv_details, dynamics_facts, map_table, render_page, scene_tables,
+from .html import (Page, csv_details, dynamics_facts, map_table, render_page, response_tables,
+                   scene_tables,
                    stiffness_json_table, summary_table)
 from .plotting import close_all, style
 
@@ -112,6 +113,17 @@ class Report:
         else:
             sec.note("No bifurcation.csv: the bifurcation diagram is left out.")
 
+    def response_section(self):
+        resp = self.art.get("response.csv")
+        if resp is None:
+            return
+        sec = self.page.section("response", "Periodic orbits and their stability")
+        self.attempt(sec, "response figure", figures.response_curves, self.scene, resp,
+                     self.art.get("sweep.csv"))
+        js = self.art.get("response.json")
+        if isinstance(js, dict):
+            sec.add(response_tables(js))
+
     def accuracy_section(self):
         if not self.art.accuracy_tables:
             return
@@ -140,6 +152,7 @@ class Report:
         self.stiffness_section()
         self.dynamics_section()
         self.sweep_section()
+        self.response_section()
         self.accuracy_section()
         self.scene_section()
         index = os.path.join(self.page.out_dir, "index.html")

@@ -1,0 +1,249 @@
+// `hertzgear response SCENE --out DIR`: the periodic orbits of the gear pair found by shooting
+// and followed over a parameter (Response/parameter: speed, torque or damping ratio) by
+// pseudo-arclength continuation, with their Floquet multipliers, stability and bifurcations
+// (dynamics/continuation.h, docs/dynamics.md). Writes response.csv (one row per orbit) and
+// response.json (branches, their end reasons, the bifurcation points, statistics), plus
+// used_parameters.prm and run.json. Also the sweep stage of `hertzgear sweep` / `run` when
+// Sweep/mode = shooting (then in speed over the sweep's range).
+//
+//   hertzgear response data/scenes/paper_crowned_table.prm --out runs/response
+#include "app/cmd_dynamics.h"
+#include "app/command.h"
+#include "app/dynamics_setup.h"
+#include "app/run_directory.h"
+#include "common/errors.h"
+#include "common/progress.h"
+#include "dynamics/continuation.h"
+
+#include <chrono>
+#include <iostream>
+#include <sstream>
+
+namespace hertzgear
+{
+  using namespace dynamics;
+
+  namespace
+  {
+    std::string number(const double v)
+    {
+      std::ostringstream os;
+      os.precision(12);
+      os << v;
+      return os.str();
+    }
+
+    std::string multipliers_text(const std::vector<std::complex<double>> &mu)
+    {
+      std::ostringstream os;
+      os.precision(9);
+      for (std::size_t i = 0; i < mu.size(); ++i)
+        os << (i ? ";" : "") << mu[i].real() << (mu[i].imag() < 0 ? "" : "+") << mu[i].imag() << 'i';
+      return os.str();
+    }
+
+    ContinuationSettings continuation_settings(const Scene &scene, const DynamicsSetup &setup,
+                                               const ResponseFamily &family)
+    {
+      const auto &r = scene.response;
+      HG_REQUIRE_INPUT(setup.run.integrator.kind != IntegratorKind::rk4,
+                       "Dynamics/integrator = rk4 cannot serve the shooting method of "
+                       "hertzgear response (it does not locate the switching events the "
+                       "saltation matrices need): use radau-iia, cvode-bdf, arkode-erk, "
+                       "arkode-dirk or ida");
+      HG_REQUIRE_INPUT(r.newton_tolerance >= 10.0 * scene.dynamics.relative_tolerance,
+                       "Response/newton_tolerance = ", r.newton_tolerance,
+                       " must be at least 10 Dynamics/relative_tolerance (", 10.0 * scene.dynamics.relative_tolerance,
+                       "): the period map is only as smooth as its integration across the "
+                       "switching events, and Newton's method cannot converge below that");
+      ContinuationSettings s;
+      s.shooting.integrator        = setup.run.integrator;
+      s.shooting.tolerance         = r.newton_tolerance;
+      s.analysis                   = setup.run;
+      s.analysis.samples_per_period = r.samples_per_period;
+      s.analysis.dense_extremes    = true;
+      s.lambda_min                 = family.min;
+      s.lambda_max                 = family.max;
+      s.lambda_start               = r.start == "low" ? family.min : family.max;
+      s.direction                  = r.start == "low" ? +1 : -1;
+      s.step_max                   = r.step_max;
+      s.step_initial               = std::min(0.005, r.step_max);
+      s.step_min                   = std::min(1e-7, 0.1 * s.step_initial);
+      s.max_points                 = r.max_points_per_branch;
+      s.follow_period_doubling     = r.period_doubling_branches > 0;
+      s.max_branches               = 1 + r.period_doubling_branches;
+      return s;
+    }
+
+    std::string response_csv_text(const ResponseFamily &family, const ContinuationResult &result)
+    {
+      std::ostringstream os;
+      os << family.column
+         << ",branch,period_multiple,stable,bifurcation,rms_dte_um,min_dte_um,max_dte_um,"
+            "dynamic_factor,contact_loss_fraction,max_penetration_um,max_multiplier_modulus,"
+            "multipliers,events_per_period,arclength,method\n";
+      for (const auto &b : result.branches)
+        for (const auto &p : b.points)
+          {
+            const auto &s = p.summary;
+            os << number(p.lambda) << ',' << p.branch << ',' << p.period_multiple << ','
+               << (p.stable ? 1 : 0) << ',' << bifurcation_name(p.bifurcation) << ','
+               << number(1e6 * s.rms_dte_m) << ',' << number(1e6 * s.min_dte_m) << ','
+               << number(1e6 * s.max_dte_m) << ',' << number(s.dynamic_factor) << ','
+               << number(s.contact_loss_fraction) << ',' << number(1e6 * s.max_penetration_m)
+               << ',' << number(std::abs(p.multipliers.front())) << ','
+               << multipliers_text(p.multipliers) << ',' << p.events_per_period << ','
+               << number(p.arclength) << ",shooting\n";
+          }
+      return os.str();
+    }
+
+    nlohmann::json response_json(const ResponseFamily &family, const ContinuationResult &result,
+                                 const double wall_s)
+    {
+      nlohmann::json j;
+      j["parameter"]     = family.column;
+      j["scene_key"]     = family.key;
+      j["range"]         = {family.min, family.max};
+      j["orbits_solved"] = result.orbits_solved;
+      j["integrator"]    = nlohmann::json(result.stats);
+      j["wall_time_s"]   = wall_s;
+      j["branches"]      = nlohmann::json::array();
+      j["bifurcations"]  = nlohmann::json::array();
+      for (const auto &b : result.branches)
+        {
+          int stable = 0;
+          for (const auto &p : b.points)
+            stable += p.stable ? 1 : 0;
+          j["branches"].push_back({{"id", b.id},
+                                   {"period_multiple", b.period_multiple},
+                                   {"parent", b.parent},
+                                   {"start", b.start_lambda},
+                                   {"points", b.points.size()},
+                                   {"stable_points", stable},
+                                   {"end_reason", b.end_reason},
+                                   {"ended_in_failure", b.ended_in_failure}});
+          for (const auto &p : b.points)
+            if (p.bifurcation != Bifurcation::none)
+              j["bifurcations"].push_back({{"type", bifurcation_name(p.bifurcation)},
+                                           {family.column, p.lambda},
+                                           {"branch", p.branch},
+                                           {"period_multiple", p.period_multiple},
+                                           {"rms_dte_um", 1e6 * p.summary.rms_dte_m},
+                                           {"multipliers", multipliers_text(p.multipliers)}});
+        }
+      return j;
+    }
+
+    // "[response] branch 0 (period 1) point 12  15143.6 rpm  rms DTE 91.65 um  stable
+    //  |mu|max 0.9935  fold  (0.4 s)"
+    void response_progress_line(const ResponseFamily &family, const ContinuationBranch &b,
+                                const ContinuationPoint &p, const double elapsed_s)
+    {
+      progress_line("response",
+                    msg("branch ", b.id, " (period ", b.period_multiple, ") point ",
+                        b.points.size(), "  ", family.column, " ", p.lambda, "  rms DTE ",
+                        1e6 * p.summary.rms_dte_m, " um  ", p.stable ? "stable" : "unstable",
+                        "  |mu|max ", std::abs(p.multipliers.front()),
+                        p.bifurcation != Bifurcation::none ? "  " + bifurcation_name(p.bifurcation) : "",
+                        "  (", elapsed_s, " s)"));
+    }
+  } // namespace
+
+  ResponseStageOutput run_response_stage(Scene scene, const RunDirectory *dir, PhaseTimer &timer,
+                                         const bool speed_sweep)
+  {
+    if (speed_sweep)
+      scene.response.parameter = "speed_rpm";
+    DynamicsSetup setup;
+    {
+      PhaseTimer::Scope scope(timer, "setup");
+      setup = make_dynamics_setup(scene);
+    }
+    const ResponseFamily       family   = response_family(scene, setup);
+    const ContinuationSettings settings = continuation_settings(scene, setup, family);
+    try
+      {
+        check_continuation_settings(settings);
+      }
+    catch (const ParameterError &e)
+      {
+        throw InputError("Response/" + e.parameter() + " = " + e.text());
+      }
+    GearPairModel start_model(settings.lambda_start == family.min ? family.family.at(family.min) :
+                                                                    family.family.at(family.max));
+    progress_line("response", msg("periodic orbits in ", family.column, " from ",
+                                  settings.lambda_start, " towards ",
+                                  settings.direction > 0 ? family.max : family.min,
+                                  ": shooting with ", scene.dynamics.integrator, " at rtol ",
+                                  scene.dynamics.relative_tolerance, ", Newton tolerance ",
+                                  settings.shooting.tolerance, ", state dimension ",
+                                  start_model.n_states()));
+    ContinuationResult result;
+    const auto         start = std::chrono::steady_clock::now();
+    const auto         elapsed = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    {
+      PhaseTimer::Scope scope(timer, "continuation");
+      result = continue_periodic_orbits(
+        family.family, initial_state(scene, start_model), settings,
+        [&](const ContinuationBranch &b, const ContinuationPoint &p) {
+          response_progress_line(family, b, p, elapsed());
+        });
+    }
+    int n_points = 0;
+    for (const auto &b : result.branches)
+      {
+        n_points += int(b.points.size());
+        progress_line("response", msg(b.ended_in_failure ? "warning: " : "", "branch ", b.id,
+                                      " (period ", b.period_multiple, ", ", b.points.size(),
+                                      " orbits) ends: ", b.end_reason));
+      }
+    const auto json = response_json(family, result, elapsed());
+    progress_line("response", msg(n_points, " orbits on ", result.branches.size(), " branches, ",
+                                  json["bifurcations"].size(), " bifurcations, ",
+                                  result.orbits_solved, " Newton iterations, ", elapsed(), " s"));
+    ResponseStageOutput out{response_csv_text(family, result), json};
+    if (dir)
+      {
+        PhaseTimer::Scope scope(timer, "write");
+        dir->write_text("response.csv", out.csv);
+        dir->write_json("response.json", out.json);
+      }
+    return out;
+  }
+
+  namespace
+  {
+    int run_response(const CommandContext &ctx)
+    {
+      PhaseTimer timer;
+      Scene      scene;
+      {
+        PhaseTimer::Scope scope(timer, "scene");
+        scene = load_scene(ctx.scene_file, ctx.overrides);
+      }
+      if (ctx.out_dir.empty())
+        {
+          std::cout << run_response_stage(scene, nullptr, timer, false).csv;
+          timer.print_summary(progress_stream());
+        }
+      else
+        {
+          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
+          run_response_stage(scene, &dir, timer, false);
+          dir.finish(timer, {{"stage", "response"}});
+        }
+      return 0;
+    }
+  } // namespace
+
+  void add_response_command(CommandRegistry &registry)
+  {
+    registry.add_command({"response", "Periodic orbits by shooting, followed in speed, torque or "
+                                      "damping by arclength continuation, with their stability "
+                                      "and bifurcations (Response/*)"},
+                         run_response);
+  }
+} // namespace hertzgear
