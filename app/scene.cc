@@ -411,7 +411,7 @@ namespace hertzgear
 
     void declare_dynamics(SceneSchema &s, DynamicsScene &d)
     {
-      d.integrator                    = "cvode-bdf";
+      d.integrator                    = "radau-iia";
       d.radau_stages                  = 0;
       d.relative_tolerance            = 1.0e-8;
       d.absolute_tolerance_m          = 1.0e-13;
@@ -432,10 +432,10 @@ namespace hertzgear
       d.gear_inertia_kg_m2            = 0.0;
       s.enter("Dynamics", "Integration of the gear-pair equations.");
       s.add("integrator", d.integrator, Patterns::Selection("rk4|arkode-erk|cvode-bdf|ida|radau-iia"),
-            "Time integrator: rk4 (the paper's fixed step), arkode-erk (adaptive explicit RK), "
-            "cvode-bdf (stiff, adaptive; default), ida (DAE form, needed when c = 0) or radau-iia "
-            "(stiff, adaptive, order 5-13; the fastest at tight tolerances, see "
-            "docs/accuracy-dynamics.md).");
+            "Time integrator: radau-iia (stiff, adaptive, order 5-13; default: the cheapest at "
+            "every accuracy measured in docs/accuracy-dynamics.md), cvode-bdf (stiff, adaptive, "
+            "SUNDIALS BDF), ida (DAE form, needed when c = 0), arkode-erk (adaptive explicit RK) "
+            "or rk4 (the paper's fixed step).");
       s.add("radau_stages", d.radau_stages, Patterns::Integer(0, 9),
             "Stages s of radau-iia (count: 3, 5, 7 or 9, order 2s - 1; 0 chooses by the tolerance: "
             "3 above 1e-5, 5 down to 1e-10, 7 below).");

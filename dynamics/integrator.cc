@@ -102,7 +102,7 @@ namespace hertzgear::dynamics
         const double h = output_interval / n_sub;
         const std::string remedy =
           msg("the fixed step h = ", h, " s is too large for this stiff system; use "
-              "{integrator} = cvode-bdf, or more {steps_per_period}");
+              "{integrator} = radau-iia (the default) or cvode-bdf, or more {steps_per_period}");
         const std::vector<double> bounds = system.blow_up_bounds();
 
         std::vector<double> k1(n), k2(n), k3(n), k4(n), tmp(n), y_old(n), f_end(n);

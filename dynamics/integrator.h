@@ -29,7 +29,8 @@ namespace hertzgear::dynamics
 
   struct IntegratorSettings
   {
-    IntegratorKind kind                  = IntegratorKind::cvode_bdf;
+    // radau-iia: the cheapest at every accuracy on the cases of docs/accuracy-dynamics.md.
+    IntegratorKind kind                  = IntegratorKind::radau_iia;
     double         relative_tolerance    = 1.0e-8;
     double         absolute_tolerance    = 1.0e-13; // on displacements; see OdeSystem
     double         fixed_step            = 0.0;     // rk4 only [s]

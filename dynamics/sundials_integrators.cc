@@ -136,7 +136,7 @@ namespace hertzgear::dynamics
     {
       if (name == "arkode-erk")
         return "the explicit integrator is limited by the stiffness of the Hertzian layer; use "
-               "{integrator} = cvode-bdf";
+               "{integrator} = radau-iia (the default) or cvode-bdf";
       return "check that the scene is physical (positive stiffness, damping c > 0 unless "
              "integrator = ida), or relax {relative_tolerance}";
     }

@@ -282,8 +282,8 @@ TEST(Run, AnFeSceneWritesItsFieldsWhenAsked)
 // Requirement: `run` checks everything it can before it makes a folder, and `check` accepts
 // exactly what `run` accepts: a pointed tooth on a scene whose stiffness comes from Fourier
 // coefficients (the dynamics still uses the geometry), and a damping ratio of 0 that makes the
-// Hertzian layer a DAE for cvode-bdf, are refused by both with exit 2, naming the key, and `run`
-// leaves no folder behind.
+// Hertzian layer a DAE for the scene's radau-iia, are refused by both with exit 2, naming the key,
+// and `run` leaves no folder behind.
 TEST(Run, BadInputIsRefusedBeforeAnyFolderAndCheckAgrees)
 {
   const std::string scene = scene_path("paper_crowned_fourier.prm") +

@@ -65,20 +65,29 @@ TEST(DynamicsCli, StiffnessFromAnotherStageIsAnInputError)
   EXPECT_FALSE(fs::exists(out));
 }
 
-// Requirement: c = 0 with an ODE integrator is an input error naming the remedy (ida); a blow-up
-// of the fixed-step RK4 is a numerical failure (exit 3) that names the time, state and remedy.
+// Requirement: c = 0 with an ODE integrator (the scene's radau-iia, the default, and cvode-bdf)
+// is an input error naming the key and the remedy (ida, or c > 0); a blow-up of the fixed-step RK4
+// is a numerical failure (exit 3) that names the time, state and remedy (the default radau-iia).
 TEST(DynamicsCli, ClearErrorsForDaeAndBlowUp)
 {
-  auto r = run_hertzgear("dynamics '" + scene + "'" + short_run +
-                         " --set Dynamics/damping_from=coefficient"
-                         " --set Dynamics/damping_coefficient_N_s_per_m=0");
-  EXPECT_EQ(r.exit_code, 2) << r.err;
-  EXPECT_NE(r.err.find("integrator = ida"), std::string::npos) << r.err;
+  const std::string zero_damping = " --set Dynamics/damping_from=coefficient"
+                                   " --set Dynamics/damping_coefficient_N_s_per_m=0";
+  for (const std::string integrator : {"", " --set Dynamics/integrator=radau-iia",
+                                       " --set Dynamics/integrator=cvode-bdf"})
+    {
+      const auto r =
+        run_hertzgear("dynamics '" + scene + "'" + short_run + zero_damping + integrator);
+      EXPECT_EQ(r.exit_code, 2) << integrator << "\n" << r.err;
+      EXPECT_NE(r.err.find("Dynamics/integrator = ida"), std::string::npos)
+        << integrator << "\n" << r.err;
+      EXPECT_NE(r.err.find("c > 0"), std::string::npos) << integrator << "\n" << r.err;
+    }
 
-  r = run_hertzgear("dynamics '" + scene + "'" + short_run + " --set Dynamics/integrator=rk4");
+  const auto r =
+    run_hertzgear("dynamics '" + scene + "'" + short_run + " --set Dynamics/integrator=rk4");
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_NE(r.err.find("t = "), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("cvode-bdf"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("radau-iia"), std::string::npos) << r.err;
 }
 
 // Requirement: `hertzgear sweep` writes sweep.csv and bifurcation.csv with the listed columns,
