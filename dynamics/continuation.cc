@@ -154,6 +154,11 @@ namespace hertzgear::dynamics
             ev.ok    = false;
             ev.error = e.what();
           }
+        catch (const InputError &e) // a parameter the family cannot take (a speed <= 0, ...)
+          {
+            ev.ok    = false;
+            ev.error = e.what();
+          }
         return ev;
       }
 
@@ -274,6 +279,27 @@ namespace hertzgear::dynamics
         return have;
       }
 
+      // At a corner of the branch the corrector fails for every small step: Newton's iterates
+      // alternate between the two sides of the kink of the period map. Steps of 100 ... 10^5
+      // times the minimum, with more iterations, start beyond the kink, in the smooth part.
+      bool pass_corner(const Vec &z, const Vec &tau, const int k, Corrected &c, Vec &tau1, double &h)
+      {
+        for (h = 100 * cs.step_min; h <= std::min(1e5 * cs.step_min, cs.step_max); h *= 10)
+          {
+            c = correct(z + h * tau, tau, k, 3 * cs.corrector_iterations);
+            if (!c.ok)
+              continue;
+            // Beyond a corner the tangent is oriented along the secant from the last point, the
+            // way the branch was travelled (the old tangent may point back along the new piece).
+            const Vec secant = c.z - z;
+            if (secant.dot(tau) <= 0.0)
+              continue;
+            tau1 = tangent(c.ev, secant / secant.norm());
+            return true;
+          }
+        return false;
+      }
+
       // Follows one branch from its corrected start z (tangent tau) until it leaves the range,
       // reaches max_points or its step collapses.
       void follow(ContinuationBranch &branch, Vec z, Evaluation ev, Vec tau, int iterations,
@@ -302,6 +328,18 @@ namespace hertzgear::dynamics
             if (!accept)
               {
                 h *= 0.5;
+                double h_corner = 0.0;
+                if (h < cs.step_min && pass_corner(z, tau, k, c, tau1, h_corner))
+                  {
+                    // A corner of the branch (a grazing contact: the period map is continuous
+                    // but its derivative jumps), passed with a step from beyond it.
+                    ++branch.corners;
+                    h      = h_corner;
+                    accept = true;
+                  }
+              }
+            if (!accept)
+              {
                 if (h < cs.step_min)
                   {
                     branch.end_reason = msg("the continuation step collapsed below its minimum ",

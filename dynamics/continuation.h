@@ -6,7 +6,10 @@
 // u = x(0) / scale and the scaled parameter l = (lambda - lambda_min) / (lambda_max - lambda_min);
 // a step predicts along the tangent of the branch and corrects by Newton's method on
 //   G(u, l) = (phi_kT(x; lambda) - x) / scale = 0,   tau^T ((u, l) - predicted) = 0,
-// so that folds, where lambda turns back, are passed like any other point. Along the branch:
+// so that folds, where lambda turns back, are passed like any other point. At a grazing contact
+// the period map of the piecewise-smooth model is continuous but its derivative jumps, and the
+// branch has a corner: when the step collapses there, larger steps with more corrector iterations
+// start beyond the corner. Along the branch:
 //   fold             the parameter component of the tangent changes sign (a multiplier at +1);
 //   period doubling  prod_i (mu_i + 1) changes sign (a real multiplier through -1);
 //   Neimark-Sacker   prod_{i<j} (mu_i mu_j - 1) changes sign with a complex pair through |mu| = 1;
@@ -84,6 +87,7 @@ namespace hertzgear::dynamics
     std::vector<ContinuationPoint> points;               // in arclength order
     std::string                    end_reason;           // why the continuation stopped
     bool                           ended_in_failure = false; // step collapsed below step_min
+    int                            corners = 0; // non-smooth points passed (grazing contacts)
   };
 
   struct ContinuationResult

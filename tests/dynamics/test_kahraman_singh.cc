@@ -10,9 +10,11 @@
 // amplitude F_a/(2 zeta) = 0.2 exceeds the mean deflection 0.1, so the teeth separate near
 // resonance and the response curve bends to lower Omega.
 #include "dynamics/analysis.h"
+#include "dynamics/continuation.h"
 #include "dynamics/gear_pair_model.h"
 
 #include "tests/dynamics/dynamics_fixtures.h"
+#include "tests/dynamics/harmonic_balance_reference.h"
 
 #include <gtest/gtest.h>
 
@@ -177,4 +179,83 @@ TEST(Validation, KahramanSinghSofteningJump)
   // 0.385 (HB 0.401).
   EXPECT_NEAR(omega_up, omega_up_hb, 0.5 * step + 0.03 * omega_up_hb);
   EXPECT_NEAR(omega_down, omega_down_hb, 0.5 * step + 0.03 * omega_down_hb);
+}
+
+// Requirement (periodic orbits): the continuation of the Kahraman-Singh oscillator's periodic
+// orbits in Omega passes its folds, and finds the two folds of a converged harmonic balance
+// (tests/dynamics/harmonic_balance_reference.h: 64 harmonics, fold frequencies exact to 1.4e-6)
+// within 0.5 %; the jumps of time-marched up and down sweeps (0.01 apart) lie between the
+// outermost folds, to half a sweep step. Shooting with Radau IIA at rtol 1e-10 and Newton to 1e-6
+// of the state scale: the period map of this oscillator, whose damping jumps at every contact
+// switch, is smooth to about 1e-9 there, and tighter Newton tolerances make the corrector stall on
+// that floor on the unstable branch.
+TEST(Validation, KahramanSinghFoldsByContinuation)
+{
+  const auto [hb_up, hb_down] = kahraman_singh_folds(zeta, F_m, F_a, 64, 512);
+  ParameterFamily family{"omega", [](const double omega) {
+                           GearPairParameters prm;
+                           prm.equivalent_mass_kg               = 1.0;
+                           prm.static_force_N                   = F_m;
+                           prm.half_backlash_m                  = 1.0;
+                           prm.mesh_frequency_rad_per_s         = omega;
+                           prm.damping_N_s_per_m                = 2 * zeta;
+                           prm.stiffness.hertz_exponent         = 1.0;
+                           prm.stiffness.k_rest_N_per_m.mean    = 1.0;
+                           prm.stiffness.unloaded_ste_m         = {0.0, {F_a / (omega * omega)}, {0.0}};
+                           prm.stiffness.has_unloaded_ste       = true;
+                           prm.effects.hertzian_layer           = HertzianLayer::off;
+                           prm.effects.mesh_stiffness_variation = false;
+                           prm.effects.ste_excitation           = true;
+                           return prm;
+                         }};
+  ContinuationSettings s;
+  s.shooting.integrator.kind               = IntegratorKind::radau_iia;
+  s.shooting.integrator.relative_tolerance = 1e-10;
+  s.shooting.integrator.absolute_tolerance = 1e-13;
+  s.shooting.tolerance                     = 1e-6;
+  s.analysis     = run_settings(IntegratorKind::radau_iia, 1e-10, 1e-13, 1, 0, 64);
+  s.lambda_min   = 0.3;
+  s.lambda_max   = 1.2;
+  s.lambda_start = 0.3;
+  GearPairModel start(family.at(0.3));
+  const auto    r = continue_periodic_orbits(family, start.static_equilibrium_state(), s);
+  ASSERT_EQ(r.branches.size(), 1u);
+  const auto &branch = r.branches[0];
+  EXPECT_FALSE(branch.ended_in_failure) << branch.end_reason;
+  std::vector<double> folds;
+  for (const auto &p : branch.points)
+    if (p.bifurcation == Bifurcation::fold)
+      folds.push_back(p.lambda);
+  std::printf("harmonic balance folds %.7f, %.7f; continuation folds:", hb_up.omega, hb_down.omega);
+  for (const double f : folds)
+    std::printf(" %.7f", f);
+  std::printf(" (%zu corners passed, %zu orbits)\n", std::size_t(branch.corners), branch.points.size());
+  ASSERT_GE(folds.size(), 2u);
+  const double upper = *std::max_element(folds.begin(), folds.end());
+  const double lower = *std::min_element(folds.begin(), folds.end());
+  EXPECT_NEAR(upper, hb_up.omega, 0.005 * hb_up.omega);
+  double nearest_down = folds.front();
+  for (const double f : folds)
+    if (std::abs(f - hb_down.omega) < std::abs(nearest_down - hb_down.omega))
+      nearest_down = f;
+  EXPECT_NEAR(nearest_down, hb_down.omega, 0.005 * hb_down.omega);
+  // The end of the range is reached on the stable resonant branch's far side.
+  EXPECT_NEAR(branch.points.back().lambda, 1.2, 1e-9);
+
+  // Time-marched sweeps: up from the lower branch, down from above the upper fold (where only
+  // the resonant branch exists); their jumps lie between the outermost folds.
+  const double        step = 0.01;
+  std::vector<double> up, down;
+  for (double w = 0.85; w <= 0.95 + 1e-9; w += step)
+    up.push_back(w);
+  for (double w = 0.96; w >= 0.36 - 1e-9; w -= step)
+    down.push_back(w);
+  const auto [omega_up, jump_up]     = jump(sweep(up));
+  const auto [omega_down, jump_down] = jump(sweep(down));
+  std::printf("time-marched jumps: up at %.4f (%.3f), down at %.4f (%.3f)\n", omega_up, jump_up,
+              omega_down, jump_down);
+  EXPECT_GE(omega_up, lower - 0.5 * step);
+  EXPECT_LE(omega_up, upper + 0.5 * step);
+  EXPECT_GE(omega_down, lower - 0.5 * step);
+  EXPECT_LE(omega_down, upper + 0.5 * step);
 }
