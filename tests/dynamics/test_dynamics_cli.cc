@@ -135,3 +135,55 @@ TEST(DynamicsCli, SweepOverTwoMpiRanksEqualsSerial)
   fs::remove_all(parallel);
   fs::remove(log);
 }
+
+// Requirement: `hertzgear response SCENE --out DIR` writes response.csv (one row per orbit with
+// its stability, multipliers and bifurcation) and response.json (branches with their end
+// reasons, bifurcations); on the crowned Fourier pair from 12000 to 14000 rpm the branch passes
+// the two folds of its bent resonance (measured 12885 and 12136 rpm) and the unstable orbits
+// between them are marked unstable. The folds are located to 1e-6 of a step, so 1 rpm is wide.
+TEST(DynamicsCli, ResponseFollowsTheOrbitsThroughTheirFolds)
+{
+  const fs::path out = fresh_dir("response");
+  const auto     r   = run_hertzgear("response '" + scene +
+                                     "' --set Sweep/speed_min_rpm=12000 --set Sweep/speed_max_rpm=14000 --out '" +
+                                     out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(out / "response.csv").substr(0, 58),
+            "speed_rpm,branch,period_multiple,stable,bifurcation,rms_dt");
+  const auto j = nlohmann::json::parse(slurp(out / "response.json"));
+  ASSERT_EQ(j["branches"].size(), 1u);
+  EXPECT_FALSE(j["branches"][0]["ended_in_failure"].get<bool>());
+  std::vector<double> folds;
+  for (const auto &b : j["bifurcations"])
+    if (b["type"] == "fold")
+      folds.push_back(b["speed_rpm"].get<double>());
+  ASSERT_EQ(folds.size(), 2u) << j.dump(1);
+  EXPECT_NEAR(std::max(folds[0], folds[1]), 12885.2, 1.0);
+  EXPECT_NEAR(std::min(folds[0], folds[1]), 12135.7, 1.0);
+  EXPECT_LT(j["branches"][0]["stable_points"].get<int>(), j["branches"][0]["points"].get<int>());
+  EXPECT_NE(r.err.find("[response] branch 0 (period 1) point"), std::string::npos) << r.err;
+  fs::remove_all(out);
+}
+
+// Requirement: the shooting method's bad input and failures: rk4 (no event location) and a
+// Newton tolerance below the integration's accuracy are input errors naming the key (exit 2);
+// Newton that does not converge at the start is a numerical error (exit 3). No folder is left.
+TEST(DynamicsCli, ResponseRefusesWhatShootingCannotServe)
+{
+  const fs::path out = fresh_dir("response_bad");
+  auto r = run_hertzgear("response '" + scene + "' --set Dynamics/integrator=rk4 --out '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("Dynamics/integrator = rk4"), std::string::npos) << r.err;
+  r = run_hertzgear("response '" + scene + "' --set Response/newton_tolerance=1e-10 --out '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("Response/newton_tolerance"), std::string::npos) << r.err;
+  r = run_hertzgear("response '" + scene + "' --set Dynamics/relative_tolerance=1e-4 " +
+                    "--set Response/newton_tolerance=1e-3 --set Dynamics/initial_state=given " +
+                    "--set Dynamics/initial_dte_um=5000 --set Dynamics/periods=2 --set Dynamics/transient_periods=1 " +
+                    "--set Sweep/speed_min_rpm=15000 --set Sweep/speed_max_rpm=16000 --out '" + out.string() + "'");
+  // A start 5 mm off on a coarse integration: Newton's steps do not reduce the residual.
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("no periodic orbit found at speed_rpm = 15000"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(out);
+}
