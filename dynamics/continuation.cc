@@ -121,7 +121,7 @@ namespace hertzgear::dynamics
             for (unsigned i = 0; i < n; ++i)
               x[i] = z(i) * scale[i];
             GearPairModel model(family.at(lambda_of(z(n))));
-            auto          integrator = make_integrator(cs.shooting.integrator);
+            auto          integrator = make_integrator(sensitivity_integrator(cs.shooting.integrator));
             const auto    flow = flow_with_sensitivity(model, scale, *integrator, 0.0, x,
                                                        k * model.mesh_period());
             ev.G.resize(n);

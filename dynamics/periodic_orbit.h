@@ -25,9 +25,11 @@ namespace hertzgear::dynamics
 {
   // The state and its first-order sensitivities: y' = f(t, y) and Phi' = (df/dy) Phi with
   // Phi(t0) = I, as one system of n + n^2 states (Phi row-major behind y), whose events apply
-  // the saltation matrix to Phi. Phi's absolute tolerances are the state's divided by the
-  // scale of the perturbed component, so that the response to a perturbation of one scale is
-  // controlled like the state itself.
+  // the saltation matrix to Phi. Phi is left out of the error test (its absolute tolerances are
+  // 1e100), as CVODES does by default (CVodeSetSensErrCon): the steps the state needs resolve
+  // the variational equation too, whose Jacobian is the state's. Measured: the multipliers of the
+  // linear oscillator stay exact to 5e-13, the monodromy across contact loss agrees with
+  // differences of the period map to 6e-9, with 40 % fewer steps than with Phi in the test.
   class SensitivitySystem : public OdeSystem
   {
   public:
@@ -79,6 +81,10 @@ namespace hertzgear::dynamics
   FlowWithSensitivity flow_with_sensitivity(OdeSystem &system, const std::vector<double> &scales,
                                             Integrator &integrator, double t0,
                                             const std::vector<double> &y0, double duration);
+
+  // The integrator settings for flows over one period with their sensitivities: those given,
+  // without Radau IIA's periodic starting values.
+  IntegratorSettings sensitivity_integrator(IntegratorSettings settings);
 
   struct ShootingSettings
   {

@@ -1247,6 +1247,11 @@ namespace hertzgear::dynamics
         return std::make_unique<RadauCore<2, S>>(st, tab, stats, n);
       if (n == 3)
         return std::make_unique<RadauCore<3, S>>(st, tab, stats, n);
+      // The gear pair with its sensitivities (periodic_orbit.h): 2 + 4 and 3 + 9 states.
+      if (n == 6)
+        return std::make_unique<RadauCore<6, S>>(st, tab, stats, n);
+      if (n == 12)
+        return std::make_unique<RadauCore<12, S>>(st, tab, stats, n);
       return std::make_unique<RadauCore<0, S>>(st, tab, stats, n);
     }
 

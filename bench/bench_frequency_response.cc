@@ -1,0 +1,208 @@
+// Benchmark of the periodic-orbit methods (docs/accuracy-dynamics.md, "Frequency response:
+// shooting against time marching"): the crowned paper pair on its shipped FE table
+// (data/scenes/paper_crowned_table.prm), 200 speeds from 1000 to 20000 rpm, up.
+//
+//   build/bench/bench_frequency_response [alternations, default 3]
+//
+// - Reference: the periodic orbit at every speed by shooting at rtol 1e-11, Newton to 1e-9 of the
+//   state scale, each started from the orbit of the speed before (where Newton fails, past the
+//   fold where the branch ends, from 400 time-marched periods: the jump an up sweep makes).
+// - Shooting: the same at the scene's defaults (radau-iia rtol 1e-8, Newton 1e-6).
+// - Time marching: dynamics::sweep's up chain (each speed from the last state of the one before)
+//   with T transient and 5 analysed periods per speed, T = 25 ... 400, on one thread.
+// Accuracy: the largest relative error of the RMS DTE against the reference over the speeds
+// where the reference orbit is stable. The ratio compares shooting with the cheapest time-marching
+// rung at least as accurate, timed in alternation (medians). Then one orbit at 150 rpm: median of
+// 50 solves from the static equilibrium.
+#include "dynamics/periodic_orbit.h"
+#include "dynamics/sweep.h"
+
+#include "tests/dynamics/dynamics_fixtures.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+using namespace hertzgear::dynamics;
+
+namespace
+{
+  constexpr int    n_speeds = 200;
+  constexpr double rpm_min = 1000.0, rpm_max = 20000.0, base_rpm = 16000.0;
+
+  double seconds_since(const std::chrono::steady_clock::time_point t0)
+  {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  double median(std::vector<double> v)
+  {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  }
+
+  std::vector<double> speeds()
+  {
+    std::vector<double> s(n_speeds);
+    for (int i = 0; i < n_speeds; ++i)
+      s[i] = rpm_min + (rpm_max - rpm_min) * i / (n_speeds - 1);
+    return s;
+  }
+
+  struct Curve
+  {
+    std::vector<double> rms;
+    std::vector<bool>   stable;
+    int                 jumps = 0;
+  };
+
+  // Orbits at every speed, each from the last; a failed Newton falls back to time marching.
+  Curve shooting_curve(const double rtol, const double newton)
+  {
+    const auto base = testing::contact_loss_pair();
+    Curve      c;
+    ShootingSettings s;
+    s.integrator.kind               = IntegratorKind::radau_iia;
+    s.integrator.relative_tolerance = rtol;
+    s.integrator.absolute_tolerance = 1e-13 * rtol / 1e-8;
+    s.tolerance                     = newton;
+    RunSettings analysis            = testing::run_settings(IntegratorKind::radau_iia, rtol,
+                                                            s.integrator.absolute_tolerance, 1, 0, 100);
+    std::vector<double> guess;
+    for (const double rpm : speeds())
+      {
+        GearPairModel model(at_speed(base, base_rpm, rpm));
+        if (guess.empty())
+          guess = model.static_equilibrium_state();
+        auto orbit = find_periodic_orbit(model, guess, s);
+        if (!orbit.converged)
+          {
+            ++c.jumps;
+            auto settings = testing::run_settings(IntegratorKind::radau_iia, rtol,
+                                                  s.integrator.absolute_tolerance, 401, 400, 1);
+            guess = simulate(model, settings, guess).final_state;
+            orbit = find_periodic_orbit(model, guess, s);
+          }
+        if (!orbit.converged)
+          {
+            std::fprintf(stderr, "no orbit at %g rpm: %s\n", rpm, orbit.failure.c_str());
+            std::exit(3);
+          }
+        guess = orbit.state;
+        c.rms.push_back(analyse_orbit(model, orbit, analysis).rms_dte_m);
+        c.stable.push_back(orbit.stable);
+      }
+    return c;
+  }
+
+  Curve marching_curve(const int transient)
+  {
+    SweepModel m;
+    m.parameters = testing::contact_loss_pair();
+    m.speed_rpm  = base_rpm;
+    m.run        = testing::run_settings(IntegratorKind::radau_iia, 1e-8, 1e-13, 1, 0, 100);
+    m.initial.static_equilibrium = true;
+    SweepSettings s;
+    s.speed_min_rpm               = rpm_min;
+    s.speed_max_rpm               = rpm_max;
+    s.points                      = n_speeds;
+    s.direction                   = SweepDirection::up;
+    s.mode                        = SweepMode::continuation;
+    s.periods_per_point           = transient + 5;
+    s.transient_periods_per_point = transient;
+    s.threads                     = 1;
+    const auto r = sweep(m, s);
+    Curve      c;
+    for (const auto &row : r.rows)
+      c.rms.push_back(row.summary.rms_dte_m);
+    return c;
+  }
+
+  double largest_error(const Curve &c, const Curve &ref)
+  {
+    double e = 0.0;
+    for (int i = 0; i < n_speeds; ++i)
+      if (ref.stable[i])
+        e = std::max(e, std::abs(c.rms[i] - ref.rms[i]) / ref.rms[i]);
+    return e;
+  }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  const int alternations = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  std::printf("crowned paper pair (FE table), %d speeds %g-%g rpm, up\n", n_speeds, rpm_min, rpm_max);
+  auto        t0  = std::chrono::steady_clock::now();
+  const Curve ref = shooting_curve(1e-11, 1e-9);
+  int n_stable = 0;
+  for (const bool st : ref.stable)
+    n_stable += st ? 1 : 0;
+  std::printf("reference: shooting at rtol 1e-11, Newton 1e-9: %.2f s, %d of %d orbits stable, "
+              "%d jumps\n", seconds_since(t0), n_stable, n_speeds, ref.jumps);
+
+  t0                      = std::chrono::steady_clock::now();
+  const Curve  shoot      = shooting_curve(1e-8, 1e-6);
+  const double t_shoot    = seconds_since(t0);
+  const double e_shoot    = largest_error(shoot, ref);
+  std::printf("shooting, rtol 1e-8, Newton 1e-6: %.3f s, largest RMS error %.2e\n", t_shoot, e_shoot);
+
+  int    chosen = 0;
+  double e_chosen = 0.0;
+  for (const int transient : {25, 50, 100, 125, 150, 175, 200, 300, 400})
+    {
+      t0                   = std::chrono::steady_clock::now();
+      const Curve  c       = marching_curve(transient);
+      const double t       = seconds_since(t0);
+      const double e       = largest_error(c, ref);
+      std::printf("time marching, %3d + 5 periods per speed: %.3f s, largest RMS error %.2e\n",
+                  transient, t, e);
+      if (!chosen && e <= e_shoot)
+        {
+          chosen   = transient;
+          e_chosen = e;
+        }
+    }
+  if (!chosen)
+    {
+      std::printf("no time-marching rung reaches the shooting accuracy %.2e: the ratio is a lower "
+                  "bound against the 400-period rung\n", e_shoot);
+      chosen = 400;
+    }
+  std::vector<double> ts, tm;
+  for (int a = 0; a < alternations; ++a)
+    {
+      t0 = std::chrono::steady_clock::now();
+      shooting_curve(1e-8, 1e-6);
+      ts.push_back(seconds_since(t0));
+      t0 = std::chrono::steady_clock::now();
+      marching_curve(chosen);
+      tm.push_back(seconds_since(t0));
+    }
+  std::printf("alternated %d times: shooting %.3f s, time marching (%d + 5 periods, error %.2e) "
+              "%.3f s: shooting %.1f times faster\n",
+              alternations, median(ts), chosen, e_chosen, median(tm), median(tm) / median(ts));
+
+  // One orbit at 150 rpm, the scene's defaults, from the static equilibrium.
+  GearPairModel    model(at_speed(testing::contact_loss_pair(), base_rpm, 150.0));
+  ShootingSettings s;
+  s.integrator.kind               = IntegratorKind::radau_iia;
+  s.integrator.relative_tolerance = 1e-8;
+  s.integrator.absolute_tolerance = 1e-13;
+  s.tolerance                     = 1e-6;
+  std::vector<double> times;
+  PeriodicOrbit       orbit;
+  for (int i = 0; i < 50; ++i)
+    {
+      t0    = std::chrono::steady_clock::now();
+      orbit = find_periodic_orbit(model, model.static_equilibrium_state(), s);
+      times.push_back(seconds_since(t0));
+    }
+  std::printf("one orbit at 150 rpm: median %.3f ms over 50 solves, %d Newton iterations, "
+              "|mu|max %.2e, converged %d\n",
+              1e3 * median(times), orbit.iterations, orbit.largest_multiplier_modulus,
+              int(orbit.converged));
+  return 0;
+}
