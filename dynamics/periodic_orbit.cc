@@ -78,7 +78,7 @@ namespace hertzgear::dynamics
     a.resize(n_states());
     for (unsigned i = 0; i < n; ++i)
       for (unsigned j = 0; j < n; ++j)
-        a[n + i * n + j] = 1e100; // CVODE needs a positive error weight 1 / (atol + rtol |y|)
+        a[n + i * n + j] = a[i] / scale[j];
     return a;
   }
 
