@@ -19,6 +19,9 @@ namespace hertzgear::dynamics
     // Dense Jacobian df/dy, row-major n x n. Only called when has_jacobian().
     virtual bool has_jacobian() const { return false; }
     virtual void jacobian(double /*t*/, const double * /*y*/, double * /*jac*/) const {}
+    // 0: a dense Jacobian. b > 0: jacobian() is block diagonal with n / b equal b x b blocks, so
+    // that an integrator may factorise one block for all (a system with its sensitivities).
+    virtual unsigned jacobian_block_size() const { return 0; }
 
     // The period of f's explicit dependence on t (0: none, or not periodic). Integrators may use
     // it for starting values: a periodic steady state repeats itself one period later.

@@ -45,15 +45,15 @@ namespace hertzgear::dynamics
     base.rhs(t, y, y_dot);
     double J[64];
     base_jacobian(t, y, J);
-    const double *Phi     = y + n;
+    const double *Phi     = y + n; // column-major: Phi_kj at k + j n
     double       *Phi_dot = y_dot + n;
-    for (unsigned i = 0; i < n; ++i)
-      for (unsigned j = 0; j < n; ++j)
+    for (unsigned j = 0; j < n; ++j)
+      for (unsigned i = 0; i < n; ++i)
         {
           double s = 0.0;
           for (unsigned k = 0; k < n; ++k)
-            s += J[i * n + k] * Phi[k * n + j];
-          Phi_dot[i * n + j] = s;
+            s += J[i * n + k] * Phi[k + j * n];
+          Phi_dot[i + j * n] = s;
         }
   }
 
@@ -67,8 +67,8 @@ namespace hertzgear::dynamics
       for (unsigned k = 0; k < n; ++k)
         {
           jac[i * N + k] = J[i * n + k];
-          for (unsigned j = 0; j < n; ++j) // d(Phi_ij)'/d(Phi_kj) = J_ik
-            jac[(n + i * n + j) * N + (n + k * n + j)] = J[i * n + k];
+          for (unsigned j = 0; j < n; ++j) // d(Phi_ij)'/d(Phi_kj) = J_ik: block j is J
+            jac[(n + i + j * n) * N + (n + k + j * n)] = J[i * n + k];
         }
   }
 
@@ -78,7 +78,7 @@ namespace hertzgear::dynamics
     a.resize(n_states());
     for (unsigned i = 0; i < n; ++i)
       for (unsigned j = 0; j < n; ++j)
-        a[n + i * n + j] = a[i] / scale[j];
+        a[n + i + j * n] = a[i] / scale[j];
     return a;
   }
 
@@ -163,9 +163,9 @@ namespace hertzgear::dynamics
       {
         double gPhi = 0.0;
         for (unsigned k = 0; k < n; ++k)
-          gPhi += grad[k] * Phi[k * n + j];
+          gPhi += grad[k] * Phi[k + j * n];
         for (unsigned i = 0; i < n; ++i)
-          Phi[i * n + j] += (f_plus[i] - f_minus[i]) * gPhi / g_dot;
+          Phi[i + j * n] += (f_plus[i] - f_minus[i]) * gPhi / g_dot;
       }
     return true;
   }
@@ -179,14 +179,14 @@ namespace hertzgear::dynamics
     std::vector<double> Y(aug.n_states(), 0.0);
     std::copy(y0.begin(), y0.end(), Y.begin());
     for (unsigned i = 0; i < n; ++i)
-      Y[n + i * n + i] = 1.0;
+      Y[n + i + i * n] = 1.0;
     integrator.integrate(aug, t0, Y, duration, 1, [](double, const double *) {});
     FlowWithSensitivity out;
     out.y.assign(Y.begin(), Y.begin() + n);
     out.jacobian.resize(n, n);
     for (unsigned i = 0; i < n; ++i)
       for (unsigned j = 0; j < n; ++j)
-        out.jacobian(i, j) = Y[n + i * n + j];
+        out.jacobian(i, j) = Y[n + i + j * n];
     out.events = aug.events();
     return out;
   }

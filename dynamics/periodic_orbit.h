@@ -24,7 +24,7 @@
 namespace hertzgear::dynamics
 {
   // The state and its first-order sensitivities: y' = f(t, y) and Phi' = (df/dy) Phi with
-  // Phi(t0) = I, as one system of n + n^2 states (Phi row-major behind y), whose events apply
+  // Phi(t0) = I, as one system of n + n^2 states (Phi column-major behind y), whose events apply
   // the saltation matrix to Phi. Phi's absolute tolerances are the state's divided by the
   // scale of the perturbed component, so that the response to a perturbation of one scale is
   // controlled like the state itself. Phi must be in the error test: in a quasi-static steady
@@ -45,6 +45,8 @@ namespace hertzgear::dynamics
     // Phi); d(J Phi)/dy, which needs second derivatives, is left out: the simplified Newton
     // iterations of the implicit integrators converge with it, and the error test is unchanged.
     void     jacobian(double t, const double *y, double *jac) const override;
+    // That Jacobian is n + 1 copies of the state's n x n Jacobian on the diagonal.
+    unsigned jacobian_block_size() const override { return n; }
     double   forcing_period() const override { return base.forcing_period(); }
     unsigned n_roots() const override { return base.n_roots(); }
     void     roots(double t, const double *y, double *g) const override { base.roots(t, y, g); }

@@ -105,6 +105,7 @@ namespace hertzgear::dynamics
     {
       static constexpr int NM = N > 0 ? N : n_max;
       int n_rt = N;
+      int block = 0; // > 0: shift I - J is block diagonal with equal blocks of this size
       T   a[NM][NM];
       T   inv_pivot[NM];
       int perm[NM];
@@ -137,10 +138,13 @@ namespace hertzgear::dynamics
       }
 
       // J is row-major with leading dimension NM.
-      void factor(const double (&J)[NM][NM], const int n, const T shift)
+      // With block_size > 0 only the first block of J is read and factorised (OdeSystem::
+      // jacobian_block_size), and solve() applies it to every block.
+      void factor(const double (&J)[NM][NM], const int n, const T shift, const int block_size = 0)
       {
-        n_rt = n;
-        const int m = dim();
+        n_rt  = n;
+        block = block_size > 0 && block_size < dim() && dim() % block_size == 0 ? block_size : 0;
+        const int m = block > 0 ? block : dim();
         for (int i = 0; i < m; ++i)
           for (int j = 0; j < m; ++j)
             a[i][j] = (i == j ? shift : T(0.0)) - J[i][j];
@@ -176,8 +180,16 @@ namespace hertzgear::dynamics
       // x = (shift I - J)^-1 b, in place.
       void solve(T *b) const
       {
-        const int m = dim();
-        T         x[NM];
+        if (block == 0)
+          solve_block(b, dim());
+        else
+          for (int s0 = 0; s0 < dim(); s0 += block)
+            solve_block(b + s0, block);
+      }
+
+      void solve_block(T *b, const int m) const
+      {
+        T x[NM];
         for (int i = 0; i < m; ++i)
           x[i] = b[perm[i]];
         for (int i = 1; i < m; ++i)
@@ -556,9 +568,10 @@ namespace hertzgear::dynamics
         // neither J nor h changed.
         if (!lu_valid || h != h_lu)
           {
-            lu_real.factor(J, n, lambda[0].real() / h);
+            const int block = int(sys->jacobian_block_size());
+            lu_real.factor(J, n, lambda[0].real() / h, block);
             for (int q = 1; q < R; ++q)
-              lu_cplx[q].factor(J, n, lambda[q] / h);
+              lu_cplx[q].factor(J, n, lambda[q] / h, block);
             lu_valid = true;
             h_lu     = h;
           }
