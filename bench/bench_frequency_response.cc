@@ -7,9 +7,7 @@
 // - Reference: the periodic orbit at every speed by shooting at rtol 1e-11, Newton to 1e-9 of the
 //   state scale, each started from the orbit of the speed before (where Newton fails, past the
 //   fold where the branch ends, from 400 time-marched periods: the jump an up sweep makes).
-// - Shooting: the same at the scene's defaults (radau-iia rtol 1e-8, Newton 1e-6), and the same
-//   with the first correction accepted when the last orbit's Newton constant predicts the next
-//   correction below a tenth of the tolerance.
+// - Shooting: the same at the scene's defaults (radau-iia rtol 1e-8, Newton 1e-6).
 // - Time marching: dynamics::sweep's up chain (each speed from the last state of the one before)
 //   with T transient and 5 analysed periods per speed, T = 25 ... 400, on one thread.
 // Accuracy: the largest relative error of the RMS DTE against the reference over the speeds
@@ -62,7 +60,7 @@ namespace
   };
 
   // Orbits at every speed, each from the last; a failed Newton falls back to time marching.
-  Curve shooting_curve(const double rtol, const double newton, const bool hint = false)
+  Curve shooting_curve(const double rtol, const double newton)
   {
     const auto base = testing::contact_loss_pair();
     Curve      c;
@@ -94,8 +92,6 @@ namespace
             std::exit(3);
           }
         guess = orbit.state;
-        if (hint && orbit.newton_constant > 0.0)
-          s.newton_constant_hint = orbit.newton_constant;
         c.rms.push_back(analyse_orbit(model, orbit, analysis).rms_dte_m);
         c.stable.push_back(orbit.stable);
       }
@@ -147,22 +143,14 @@ int main(int argc, char **argv)
   std::printf("reference: shooting at rtol 1e-11, Newton 1e-9: %.2f s, %d of %d orbits stable, "
               "%d jumps\n", seconds_since(t0), n_stable, n_speeds, ref.jumps);
 
-  // Two shooting contenders: every orbit with at least two flows, and the first correction
-  // accepted when the last orbit's Newton constant predicts the next one below a tenth of the
-  // tolerance (ShootingSettings::newton_constant_hint).
-  double e_shoot[2], t_once[2];
-  for (int h = 0; h < 2; ++h)
-    {
-      t0               = std::chrono::steady_clock::now();
-      const Curve shoot = shooting_curve(1e-8, 1e-6, h == 1);
-      t_once[h]        = seconds_since(t0);
-      e_shoot[h]       = largest_error(shoot, ref);
-      std::printf("shooting, rtol 1e-8, Newton 1e-6%s: %.3f s, largest RMS error %.2e\n",
-                  h ? ", Newton constant hint" : "", t_once[h], e_shoot[h]);
-    }
+  t0                      = std::chrono::steady_clock::now();
+  const Curve  shoot      = shooting_curve(1e-8, 1e-6);
+  const double t_shoot    = seconds_since(t0);
+  const double e_shoot    = largest_error(shoot, ref);
+  std::printf("shooting, rtol 1e-8, Newton 1e-6: %.3f s, largest RMS error %.2e\n", t_shoot, e_shoot);
 
-  int    chosen[2] = {0, 0};
-  double e_chosen[2] = {0, 0};
+  int    chosen = 0;
+  double e_chosen = 0.0;
   for (const int transient : {25, 50, 100, 125, 150, 175, 200, 300, 400})
     {
       t0                   = std::chrono::steady_clock::now();
@@ -171,36 +159,31 @@ int main(int argc, char **argv)
       const double e       = largest_error(c, ref);
       std::printf("time marching, %3d + 5 periods per speed: %.3f s, largest RMS error %.2e\n",
                   transient, t, e);
-      for (int h = 0; h < 2; ++h)
-        if (!chosen[h] && e <= e_shoot[h])
-          {
-            chosen[h]   = transient;
-            e_chosen[h] = e;
-          }
+      if (!chosen && e <= e_shoot)
+        {
+          chosen   = transient;
+          e_chosen = e;
+        }
     }
-  for (int h = 0; h < 2; ++h)
-    if (!chosen[h])
-      {
-        std::printf("no time-marching rung reaches the shooting accuracy %.2e: the ratio is a "
-                    "lower bound against the 400-period rung\n", e_shoot[h]);
-        chosen[h] = 400;
-      }
-  std::vector<double> ts[2], tm[2];
+  if (!chosen)
+    {
+      std::printf("no time-marching rung reaches the shooting accuracy %.2e: the ratio is a lower "
+                  "bound against the 400-period rung\n", e_shoot);
+      chosen = 400;
+    }
+  std::vector<double> ts, tm;
   for (int a = 0; a < alternations; ++a)
-    for (int h = 0; h < 2; ++h)
-      {
-        t0 = std::chrono::steady_clock::now();
-        shooting_curve(1e-8, 1e-6, h == 1);
-        ts[h].push_back(seconds_since(t0));
-        t0 = std::chrono::steady_clock::now();
-        marching_curve(chosen[h]);
-        tm[h].push_back(seconds_since(t0));
-      }
-  for (int h = 0; h < 2; ++h)
-    std::printf("alternated %d times: shooting%s %.3f s (error %.2e), time marching (%d + 5 periods, "
-                "error %.2e) %.3f s: shooting %.1f times faster\n",
-                alternations, h ? " with the hint" : "", median(ts[h]), e_shoot[h], chosen[h],
-                e_chosen[h], median(tm[h]), median(tm[h]) / median(ts[h]));
+    {
+      t0 = std::chrono::steady_clock::now();
+      shooting_curve(1e-8, 1e-6);
+      ts.push_back(seconds_since(t0));
+      t0 = std::chrono::steady_clock::now();
+      marching_curve(chosen);
+      tm.push_back(seconds_since(t0));
+    }
+  std::printf("alternated %d times: shooting %.3f s, time marching (%d + 5 periods, error %.2e) "
+              "%.3f s: shooting %.1f times faster\n",
+              alternations, median(ts), chosen, e_chosen, median(tm), median(tm) / median(ts));
 
   // One orbit at 150 rpm, the scene's defaults, from the static equilibrium.
   GearPairModel    model(at_speed(testing::contact_loss_pair(), base_rpm, 150.0));

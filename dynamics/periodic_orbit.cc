@@ -214,8 +214,6 @@ namespace hertzgear::dynamics
       throw ParameterError("tolerance", msg(s.tolerance, " is outside (0, 1e-2)"));
     if (s.max_iterations < 1)
       throw ParameterError("max_iterations", msg(s.max_iterations, " must be at least 1"));
-    if (!(s.newton_constant_hint >= 0.0))
-      throw ParameterError("newton_constant_hint", msg(s.newton_constant_hint, " must not be negative"));
   }
 
   std::vector<std::complex<double>> floquet_multipliers(const Eigen::MatrixXd &M)
@@ -339,8 +337,6 @@ namespace hertzgear::dynamics
           return fail("the shooting Jacobian is singular (a Floquet multiplier at +1: a fold or "
                       "a branch point)");
         const double correction = step.lpNorm<Eigen::Infinity>();
-        if (it >= 2 && orbit.correction > 0.0)
-          orbit.newton_constant = correction / (orbit.correction * orbit.correction);
         X_prev                  = X;
         step_prev               = step;
         norm_prev               = ev.norm;
@@ -350,10 +346,7 @@ namespace hertzgear::dynamics
         orbit.iterations = it;
         orbit.correction = correction;
         orbit.residual   = ev.norm;
-        const bool predicted_small = it == 1 && settings.newton_constant_hint > 0.0 &&
-                                     settings.newton_constant_hint * correction * correction <=
-                                       0.1 * settings.tolerance;
-        if (correction < settings.tolerance || predicted_small)
+        if (correction < settings.tolerance)
           {
             Eigen::MatrixXd M = Eigen::MatrixXd::Identity(n, n);
             for (int i = 0; i < m; ++i)

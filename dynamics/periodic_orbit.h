@@ -100,11 +100,6 @@ namespace hertzgear::dynamics
     // after max_iterations or when the scaled residual is not reduced by halving the step 8 times.
     double tolerance       = 1e-9;
     int    max_iterations  = 40;
-    // Newton's constant K (|dx_{k+1}| ~ K |dx_k|^2, PeriodicOrbit::newton_constant) of a
-    // neighbouring orbit, when orbits are solved along a parameter: the first correction dx is then
-    // accepted without another flow when K |dx|^2, the predicted size of the next one, is below a
-    // tenth of the tolerance. 0: every orbit takes at least two flows.
-    double newton_constant_hint = 0.0;
   };
 
   // Throws ParameterError naming the field of ShootingSettings that is out of range.
@@ -124,8 +119,6 @@ namespace hertzgear::dynamics
     bool                              stable     = false; // every |mu| < 1
     int                               iterations = 0;
     double                            correction = 0.0; // last scaled Newton correction
-    // |dx_k| / |dx_{k-1}|^2 of the last two corrections (0 after a single one).
-    double                            newton_constant = 0.0;
     double                            residual   = 0.0; // max_i |x_i(t0 + kT) - x_i(t0)| / scale_i
     long                              events_per_period = 0; // switching events in kT
     IntegratorStats                   stats;
