@@ -76,6 +76,28 @@ namespace hertzgear::dynamics::testing
     return model.state(58.6059e-6, 5.86e-5, 0.05796e-6);
   }
 
+  // m x'' + c x' + k(t) f(x) = F_0 with m = 1 kg, k(t) = 1 - a cos(Omega t) - 0.1 cos(2 Omega t)
+  // - 0.05 cos(3 Omega t) N/m and damping ratio 0.05 on the mean stiffness: a linear oscillator
+  // with a periodic stiffness near its principal parametric resonance at Omega ~ 2 rad/s, and with
+  // a half backlash b_c > 0 (f(x) = x -+ b_c outside it) a piecewise-linear one.
+  inline GearPairParameters parametric_oscillator(const double omega, const double F0,
+                                                  const double a = 0.2, const double b_c = 0.0)
+  {
+    GearPairParameters p;
+    p.equivalent_mass_kg               = 1.0;
+    p.static_force_N                   = F0;
+    p.half_backlash_m                  = b_c;
+    p.mesh_frequency_rad_per_s         = omega;
+    p.damping_N_s_per_m                = 2.0 * 0.05 * std::sqrt(1.0 * 1.0);
+    p.stiffness.hertz_exponent         = 1.0;
+    p.stiffness.k_rest_N_per_m         = {1.0, {a, 0.1, 0.05}, {M_PI, M_PI, M_PI}};
+    p.effects.backlash                 = b_c > 0.0;
+    p.effects.hertzian_layer           = HertzianLayer::off;
+    p.effects.mesh_stiffness_variation = false;
+    p.effects.rest_stiffness_variation = true;
+    return p;
+  }
+
   // A unit oscillator (m = 1 kg, k = 1e6 N/m, omega_n = 1000 rad/s) for closed-form checks.
   inline GearPairParameters unit_oscillator(const double zeta, const double omega)
   {

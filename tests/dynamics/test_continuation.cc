@@ -21,26 +21,13 @@ using namespace hertzgear::dynamics::testing;
 
 namespace
 {
-  // m x'' + c x' + k(t) f(x) = F_0, m = 1 kg, k(t) = 1 - 0.3 cos(Omega t) - 0.1 cos(2 Omega t)
-  // - 0.05 cos(3 Omega t) N/m, damping ratio 0.05 on the mean stiffness, half backlash 0.05 m,
-  // F_0 = 0.1 N: the parametric oscillator of test_period_detection.cc beyond its instability.
-  // In contact (x > b_c) it is linear; inside the principal parametric resonance (Omega ~ 2) its
-  // period-1 motion is unstable and the backlash limits a period-2 motion.
+  // The parametric oscillator of test_period_detection.cc beyond its instability (first harmonic
+  // 0.3), with half backlash 0.05 m and F_0 = 0.1 N. In contact (x > b_c) it is linear; inside
+  // the principal parametric resonance (Omega ~ 2) its period-1 motion is unstable and the
+  // backlash limits a period-2 motion.
   GearPairParameters parametric_pair(const double omega)
   {
-    GearPairParameters p;
-    p.equivalent_mass_kg               = 1.0;
-    p.static_force_N                   = 0.1;
-    p.half_backlash_m                  = 0.05;
-    p.mesh_frequency_rad_per_s         = omega;
-    p.damping_N_s_per_m                = 2.0 * 0.05;
-    p.stiffness.hertz_exponent         = 1.0;
-    p.stiffness.k_rest_N_per_m         = {1.0, {0.3, 0.1, 0.05}, {M_PI, M_PI, M_PI}};
-    p.effects.backlash                 = true;
-    p.effects.hertzian_layer           = HertzianLayer::off;
-    p.effects.mesh_stiffness_variation = false;
-    p.effects.rest_stiffness_variation = true;
-    return p;
+    return parametric_oscillator(omega, 0.1, 0.3, 0.05);
   }
 
   // The smallest real multiplier of the linear system in contact, from its affine period map

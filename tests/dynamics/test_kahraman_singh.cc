@@ -77,6 +77,26 @@ namespace
     double omega, amplitude;
   };
 
+  // The gear-pair model set up as the oscillator above at forcing frequency Omega: e(t) =
+  // E cos(Omega t) with E = F_a / Omega^2 puts F_a cos(Omega t) on p = x - e.
+  GearPairParameters oscillator(const double omega)
+  {
+    GearPairParameters prm;
+    prm.equivalent_mass_kg               = 1.0;
+    prm.static_force_N                   = F_m;
+    prm.half_backlash_m                  = 1.0;
+    prm.mesh_frequency_rad_per_s         = omega;
+    prm.damping_N_s_per_m                = 2 * zeta;
+    prm.stiffness.hertz_exponent         = 1.0;
+    prm.stiffness.k_rest_N_per_m.mean    = 1.0;
+    prm.stiffness.unloaded_ste_m         = {0.0, {F_a / (omega * omega)}, {0.0}};
+    prm.stiffness.has_unloaded_ste       = true;
+    prm.effects.hertzian_layer           = HertzianLayer::off;
+    prm.effects.mesh_stiffness_variation = false;
+    prm.effects.ste_excitation           = true;
+    return prm;
+  }
+
   // Continuation sweep of the gear-pair model set up as the oscillator above.
   std::vector<SweepPoint> sweep(const std::vector<double> &omegas)
   {
@@ -85,21 +105,8 @@ namespace
     bool                    first = true;
     for (const double omega : omegas)
       {
-        GearPairParameters prm;
-        prm.equivalent_mass_kg             = 1.0;
-        prm.static_force_N                 = F_m;
-        prm.half_backlash_m                = 1.0;
-        prm.mesh_frequency_rad_per_s       = omega;
-        prm.damping_N_s_per_m              = 2 * zeta;
-        prm.stiffness.hertz_exponent       = 1.0;
-        prm.stiffness.k_rest_N_per_m.mean  = 1.0;
-        // e(t) = E cos(Omega t) with E = F_a / Omega^2 puts F_a cos(Omega t) on p = x - e.
-        const double E                     = F_a / (omega * omega);
-        prm.stiffness.unloaded_ste_m       = {0.0, {E}, {0.0}};
-        prm.stiffness.has_unloaded_ste     = true;
-        prm.effects.hertzian_layer         = HertzianLayer::off;
-        prm.effects.mesh_stiffness_variation = false;
-        prm.effects.ste_excitation         = true;
+        const GearPairParameters prm = oscillator(omega);
+        const double             E   = F_a / (omega * omega);
         GearPairModel model(prm);
         if (first)
           {
@@ -192,22 +199,7 @@ TEST(Validation, KahramanSinghSofteningJump)
 TEST(Validation, KahramanSinghFoldsByContinuation)
 {
   const auto [hb_up, hb_down] = kahraman_singh_folds(zeta, F_m, F_a, 64, 512);
-  ParameterFamily family{"omega", [](const double omega) {
-                           GearPairParameters prm;
-                           prm.equivalent_mass_kg               = 1.0;
-                           prm.static_force_N                   = F_m;
-                           prm.half_backlash_m                  = 1.0;
-                           prm.mesh_frequency_rad_per_s         = omega;
-                           prm.damping_N_s_per_m                = 2 * zeta;
-                           prm.stiffness.hertz_exponent         = 1.0;
-                           prm.stiffness.k_rest_N_per_m.mean    = 1.0;
-                           prm.stiffness.unloaded_ste_m         = {0.0, {F_a / (omega * omega)}, {0.0}};
-                           prm.stiffness.has_unloaded_ste       = true;
-                           prm.effects.hertzian_layer           = HertzianLayer::off;
-                           prm.effects.mesh_stiffness_variation = false;
-                           prm.effects.ste_excitation           = true;
-                           return prm;
-                         }};
+  ParameterFamily family{"omega", oscillator};
   ContinuationSettings s;
   s.shooting.integrator.kind               = IntegratorKind::radau_iia;
   s.shooting.integrator.relative_tolerance = 1e-10;

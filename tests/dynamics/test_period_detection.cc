@@ -16,26 +16,6 @@ using namespace hertzgear::dynamics::testing;
 
 namespace
 {
-  // m x'' + c x' + k(t) x = F_0 with m = 1 kg, k(t) = 1 - 0.2 cos(Omega t) - 0.1 cos(2 Omega t)
-  // - 0.05 cos(3 Omega t) N/m and damping ratio 0.05 on the mean stiffness: a linear oscillator
-  // with a periodic stiffness, near its principal parametric resonance at Omega ~ 2 rad/s.
-  GearPairParameters parametric_oscillator(const double omega, const double F0)
-  {
-    GearPairParameters p;
-    p.equivalent_mass_kg               = 1.0;
-    p.static_force_N                   = F0;
-    p.half_backlash_m                  = 0.0;
-    p.mesh_frequency_rad_per_s         = omega;
-    p.damping_N_s_per_m                = 2.0 * 0.05 * std::sqrt(1.0 * 1.0);
-    p.stiffness.hertz_exponent         = 1.0;
-    p.stiffness.k_rest_N_per_m         = {1.0, {0.2, 0.1, 0.05}, {M_PI, M_PI, M_PI}};
-    p.effects.backlash                 = false;
-    p.effects.hertzian_layer           = HertzianLayer::off;
-    p.effects.mesh_stiffness_variation = false;
-    p.effects.rest_stiffness_variation = true;
-    return p;
-  }
-
   // The Floquet multipliers: eigenvalues of the monodromy matrix. The period map of the forced
   // linear oscillator is affine, y(T) = M y(0) + b, so the columns of M are the differences of
   // the states one period after (1, 0) and (0, 1) m (and m/s) from the state after (0, 0).
@@ -98,11 +78,7 @@ TEST(PeriodDetection, NearResonantTransientIsNotSettled)
 // repeat every second period to rounding (measured: 0.083141035 / 0.170449714 m).
 TEST(PeriodDetection, TruePeriodTwoIsPeriodTwo)
 {
-  auto p                                   = parametric_oscillator(2.0, 0.1);
-  p.stiffness.k_rest_N_per_m.amplitudes[0] = 0.3;
-  p.half_backlash_m                        = 0.05;
-  p.effects.backlash                       = true;
-  GearPairModel model(p);
+  GearPairModel model(parametric_oscillator(2.0, 0.1, 0.3, 0.05));
   const auto    r = simulate(model, run_settings(IntegratorKind::radau_iia, 1e-10, 1e-14, 340, 300),
                              model.static_equilibrium_state());
   const auto s = analyse(model, r);
