@@ -55,7 +55,9 @@ namespace hertzgear
     // maxima of the integrator's interpolant inside every step; "samples": of the samples only.
     j["extremes_from"]              = s.extremes_from;
     j["impacts"]                    = s.n_impacts;
-    j["mean_energy_dissipated_per_impact_J"] = s.mean_energy_per_impact_J;
+    // The mean of the loop integrals of F d(delta) over the impacts: the contact damping's
+    // dissipation when k_h is constant under load, else with the stiffness variation's work.
+    j["mean_loop_work_per_impact_J"] = s.mean_loop_work_per_impact_J;
     j["state_dimension"]            = model.n_states();
     j["effects"]                    = model.parameters().effects.describe();
     j["equivalent_mass_kg"]         = model.parameters().equivalent_mass_kg;
@@ -122,11 +124,11 @@ namespace hertzgear
       }());
       dir.write_text("impacts.csv", [&]() {
         std::ostringstream os;
-        os << "start_s,end_s,max_force_N,max_penetration_um,energy_dissipated_J\n";
+        os << "start_s,end_s,max_force_N,max_penetration_um,loop_work_J\n";
         for (const auto &l : force_penetration_loops(result))
           os << csv_number(l.start_s) << ',' << csv_number(l.end_s) << ','
              << csv_number(l.max_force_N) << ',' << csv_number(1e6 * l.max_penetration_m) << ','
-             << csv_number(l.energy_dissipated_J) << '\n';
+             << csv_number(l.loop_work_J) << '\n';
         return os.str();
       }());
       dir.write_json("summary.json", summary);

@@ -302,7 +302,7 @@ namespace hertzgear::dynamics
         loop.end_s   = s[end - 1].t_s;
         for (std::size_t j = begin; j < end; ++j)
           {
-            loop.energy_dissipated_J += 0.5 * (s[j].force_N + s[j + 1].force_N) *
+            loop.loop_work_J += 0.5 * (s[j].force_N + s[j + 1].force_N) *
                                         (s[j + 1].penetration_m - s[j].penetration_m);
             loop.max_force_N = std::max(loop.max_force_N, std::abs(s[j + 1].force_N));
             loop.max_penetration_m =
@@ -381,7 +381,7 @@ namespace hertzgear::dynamics
     const auto loops              = force_penetration_loops(r);
     sum.n_impacts                 = loops.size();
     for (const auto &l : loops)
-      sum.mean_energy_per_impact_J += l.energy_dissipated_J / loops.size();
+      sum.mean_loop_work_per_impact_J += l.loop_work_J / loops.size();
     return sum;
   }
 

@@ -81,7 +81,11 @@ namespace hertzgear::dynamics
     double end_s                = 0.0;
     double max_force_N          = 0.0;
     double max_penetration_m    = 0.0;
-    double energy_dissipated_J  = 0.0; // loop area, the integral of F d(delta) over the episode
+    // The loop integral of F d(delta) over the episode (trapezoids over the samples): the net
+    // work the mesh force does on the Hertzian penetration. With k_h constant during the contact
+    // it is the energy the contact damping dissipates (>= 0); with k_h(t) varying under load it
+    // also holds the work of the stiffness variation and can be negative (docs/dynamics.md).
+    double loop_work_J          = 0.0;
   };
 
   struct SteadyStateSummary
@@ -107,7 +111,7 @@ namespace hertzgear::dynamics
     int    period_candidate           = 0;
     double period_contraction         = 0.0; // per mesh period, estimated from the section
     double period_distance            = 0.0; // estimated distance from the limit, / scale
-    double mean_energy_per_impact_J = 0.0;
+    double mean_loop_work_per_impact_J = 0.0; // mean ImpactLoop::loop_work_J
     int    n_impacts             = 0;
     // Where the extremes (min/max DTE and force, max penetration, dynamic factor) come from:
     // "dense output" (the integrator's interpolant, maximised inside every step of the steady
@@ -121,7 +125,7 @@ namespace hertzgear::dynamics
                                      contact_loss_fraction, contact_losses_per_period,
                                      backside_impacts, period_multiplicity, period_status,
                                      period_candidate, period_contraction, period_distance,
-                                     mean_energy_per_impact_J, n_impacts, extremes_from)
+                                     mean_loop_work_per_impact_J, n_impacts, extremes_from)
 
   // Period-k detection from the convergence of the Poincare section, not from the size of its
   // differences alone. For k = 1..max_k, the k-step differences

@@ -906,14 +906,18 @@ def force_penetration_loops(sec, art, scene, ts):
                        % (len(energies), kind, 1e3 * np.mean(energies)))
         ax.text(0.98, 0.04, "mean loop area %.3g mJ" % (1e3 * np.mean(energies)),
                 transform=ax.transAxes, ha="right", va="bottom")
-    reported = scene.flat_summary.get("mean_energy_dissipated_per_impact_J")
+    reported = scene.flat_summary.get("mean_loop_work_per_impact_J")
     if is_number(reported):
-        energy_text += " summary.json gives %.4g mJ dissipated per impact." % (1e3 * reported)
+        energy_text += (" summary.json gives a mean loop work ∮F dδ of %.4g mJ per impact."
+                        % (1e3 * reported))
     publish(sec, "force_penetration.png", fig,
             "Mesh force against Hertzian penetration (%s), one colour per %s, later ones "
             "darker. Loading runs along the upper branch and unloading along the lower "
-            "one; the area enclosed by a loop is the energy the contact damping dissipates "
-            "in that %s, and an upward-bending branch is the hardening of "
+            "one when the contact damping dominates. The loop integral ∮F dδ is the energy the "
+            "contact damping dissipates in that %s when k<sub>h</sub> is constant under load; "
+            "when k<sub>h</sub>(t) varies while the teeth are loaded it also holds the work of "
+            "the stiffness variation, and unloading can run above loading (a negative ∮F dδ). "
+            "An upward-bending branch is the hardening of "
             "F = k<sub>h</sub>δ<sup>n</sup> with n &gt; 1.%s"
             % (html.escape(source), kind, kind, energy_text))
 
