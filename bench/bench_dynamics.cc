@@ -5,7 +5,7 @@
 //
 //   build/bench/bench_dynamics --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //
-// The SciPy LSODA comparison on the same equations is scripts/bench_lsoda_dynamics.py.
+// The SciPy LSODA comparison on the same equations is bench/bench_lsoda_dynamics.py.
 #include "dynamics/analysis.h"
 #include "dynamics/gear_pair_model.h"
 

@@ -17,7 +17,7 @@ steady window (the second half of the periods) and the largest error of the Poin
 The ratio is reported at equal accuracy: each LSODA run against the cheapest hertzgear run that
 is at least as accurate on both measures.
 
-usage: scripts/bench_lsoda_dynamics.py HERTZGEAR_EXE [--case paper|contact-loss] [--periods N]
+usage: bench/bench_lsoda_dynamics.py HERTZGEAR_EXE [--case paper|contact-loss] [--periods N]
                                       [--rtols 1e-6,1e-8] [--integrators cvode-bdf,radau-iia]
                                       [--repeat 3]
 
