@@ -3,7 +3,7 @@
 // - a period doubling is detected and located with its multiplier at -1, where an independent
 //   monodromy of the linear system puts it, and the period-2 branch is followed from it to the
 //   period-2 motion a time-marched run settles on;
-// - the branch passes folds (the Kahraman-Singh oscillator, test_kahraman_singh_continuation.cc);
+// - the branch passes folds (the Kahraman-Singh oscillator, test_kahraman_singh.cc);
 // - a step that collapses ends its branch with the reason, never silently.
 #include "dynamics/continuation.h"
 
