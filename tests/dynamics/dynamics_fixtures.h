@@ -7,6 +7,7 @@
 #include <cmath>
 #include <complex>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hertzgear::dynamics::testing
@@ -96,6 +97,34 @@ namespace hertzgear::dynamics::testing
     p.effects.mesh_stiffness_variation = false;
     p.effects.rest_stiffness_variation = true;
     return p;
+  }
+
+  // The Floquet multipliers of a linear model without backlash (x and x' as its state), from its
+  // affine period map y(T) = M y(0) + b: the columns of M are the differences of the states one
+  // period after (1, 0) and (0, 1) from the state after (0, 0). Independent of the shooting code.
+  inline std::pair<std::complex<double>, std::complex<double>>
+  linear_period_map_multipliers(const GearPairParameters &p, const double rtol, const double atol)
+  {
+    GearPairModel      model(p);
+    IntegratorSettings set;
+    set.kind               = IntegratorKind::radau_iia;
+    set.relative_tolerance = rtol;
+    set.absolute_tolerance = atol;
+    const auto after_one_period = [&](std::vector<double> y) {
+      make_integrator(set)->integrate(model, 0.0, y, model.mesh_period(), 1, {});
+      return y;
+    };
+    const auto b = after_one_period({0.0, 0.0});
+    double     M[2][2];
+    for (int col = 0; col < 2; ++col)
+      {
+        const auto y = after_one_period({col == 0 ? 1.0 : 0.0, col == 1 ? 1.0 : 0.0});
+        M[0][col]    = y[0] - b[0];
+        M[1][col]    = y[1] - b[1];
+      }
+    const double tr = M[0][0] + M[1][1], det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
+    const std::complex<double> disc = std::sqrt(std::complex<double>(tr * tr / 4.0 - det));
+    return {tr / 2.0 + disc, tr / 2.0 - disc};
   }
 
   // A unit oscillator (m = 1 kg, k = 1e6 N/m, omega_n = 1000 rad/s) for closed-form checks.

@@ -30,27 +30,12 @@ namespace
     return parametric_oscillator(omega, 0.1, 0.3, 0.05);
   }
 
-  // The smallest real multiplier of the linear system in contact, from its affine period map
-  // (columns from unit initial states, independent of the shooting code).
+  // The smallest real multiplier of the linear system in contact: k(t) x everywhere, the
+  // homogeneous part of the contact zone's equation without its backlash.
   double smallest_linear_multiplier(const double omega)
   {
-    auto p              = parametric_pair(omega);
-    p.effects.backlash  = false; // k(t) x everywhere: the homogeneous part of the contact zone's
-    p.half_backlash_m   = 0.0;   // equation, without its backlash
-    GearPairModel      model(p);
-    IntegratorSettings set;
-    set.kind               = IntegratorKind::radau_iia;
-    set.relative_tolerance = 1e-13;
-    set.absolute_tolerance = 1e-16;
-    const auto after = [&](std::vector<double> y) {
-      make_integrator(set)->integrate(model, 0.0, y, model.mesh_period(), 1, {});
-      return y;
-    };
-    const auto b = after({10.0, 0.0}), c0 = after({11.0, 0.0}), c1 = after({10.0, 1.0});
-    const double M00 = c0[0] - b[0], M10 = c0[1] - b[1], M01 = c1[0] - b[0], M11 = c1[1] - b[1];
-    const double tr = M00 + M11, det = M00 * M11 - M01 * M10;
-    const std::complex<double> d = std::sqrt(std::complex<double>(tr * tr / 4 - det));
-    return std::min((tr / 2 + d).real(), (tr / 2 - d).real());
+    const auto mu = linear_period_map_multipliers(parametric_oscillator(omega, 0.1, 0.3), 1e-13, 1e-16);
+    return std::min(mu.first.real(), mu.second.real());
   }
 
   ContinuationSettings settings_for(const double lambda_min, const double lambda_max)

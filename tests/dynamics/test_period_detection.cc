@@ -16,31 +16,10 @@ using namespace hertzgear::dynamics::testing;
 
 namespace
 {
-  // The Floquet multipliers: eigenvalues of the monodromy matrix. The period map of the forced
-  // linear oscillator is affine, y(T) = M y(0) + b, so the columns of M are the differences of
-  // the states one period after (1, 0) and (0, 1) m (and m/s) from the state after (0, 0).
+  // The Floquet multipliers of the parametric oscillator without load offset.
   std::pair<std::complex<double>, std::complex<double>> multipliers(const double omega)
   {
-    GearPairModel      model(parametric_oscillator(omega, 1.0));
-    IntegratorSettings set;
-    set.kind               = IntegratorKind::radau_iia;
-    set.relative_tolerance = 1e-12;
-    set.absolute_tolerance = 1e-14;
-    const auto after_one_period = [&](std::vector<double> y) {
-      make_integrator(set)->integrate(model, 0.0, y, model.mesh_period(), 1, {});
-      return y;
-    };
-    const auto b = after_one_period({0.0, 0.0});
-    double     M[2][2];
-    for (int col = 0; col < 2; ++col)
-      {
-        const auto y = after_one_period({col == 0 ? 1.0 : 0.0, col == 1 ? 1.0 : 0.0});
-        M[0][col]    = y[0] - b[0];
-        M[1][col]    = y[1] - b[1];
-      }
-    const double tr = M[0][0] + M[1][1], det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
-    const std::complex<double> disc = std::sqrt(std::complex<double>(tr * tr / 4.0 - det));
-    return {tr / 2.0 + disc, tr / 2.0 - disc};
+    return linear_period_map_multipliers(parametric_oscillator(omega, 1.0), 1e-12, 1e-14);
   }
 } // namespace
 
