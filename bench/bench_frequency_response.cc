@@ -59,7 +59,10 @@ namespace
     int                 jumps = 0;
   };
 
-  // Orbits at every speed, each from the last; a failed Newton falls back to time marching.
+  // Orbits at every speed, each predicted from the two before (the secant through them, or the
+  // last orbit where the secant's Newton fails). Past a fold Newton fails from both: the motion
+  // jumps as an up sweep does, time-marched in rounds of 25 periods until Newton converges from
+  // its state to a stable orbit.
   Curve shooting_curve(const double rtol, const double newton)
   {
     const auto base = testing::contact_loss_pair();
@@ -71,27 +74,44 @@ namespace
     s.tolerance                     = newton;
     RunSettings analysis            = testing::run_settings(IntegratorKind::radau_iia, rtol,
                                                             s.integrator.absolute_tolerance, 1, 0, 100);
-    std::vector<double> guess;
+    std::vector<double> last, before; // the orbits at the two speeds before, on one branch
     for (const double rpm : speeds())
       {
         GearPairModel model(at_speed(base, base_rpm, rpm));
-        if (guess.empty())
-          guess = model.static_equilibrium_state();
-        auto orbit = find_periodic_orbit(model, guess, s);
+        if (last.empty())
+          last = model.static_equilibrium_state();
+        PeriodicOrbit orbit;
+        bool          jumped = false;
+        if (!before.empty())
+          {
+            std::vector<double> secant(last.size());
+            for (std::size_t i = 0; i < last.size(); ++i)
+              secant[i] = 2.0 * last[i] - before[i];
+            orbit = find_periodic_orbit(model, secant, s);
+          }
+        if (!orbit.converged)
+          orbit = find_periodic_orbit(model, last, s);
         if (!orbit.converged)
           {
             ++c.jumps;
-            auto settings = testing::run_settings(IntegratorKind::radau_iia, rtol,
-                                                  s.integrator.absolute_tolerance, 401, 400, 1);
-            guess = simulate(model, settings, guess).final_state;
-            orbit = find_periodic_orbit(model, guess, s);
+            jumped = true;
+            std::vector<double> state = last;
+            for (int periods = 25; periods <= 400 && !(orbit.converged && orbit.stable); periods += 25)
+              {
+                auto settings = testing::run_settings(IntegratorKind::radau_iia, rtol,
+                                                      s.integrator.absolute_tolerance, 26, 25, 1);
+                state = simulate(model, settings, state).final_state;
+                orbit = find_periodic_orbit(model, state, s);
+              }
           }
         if (!orbit.converged)
           {
             std::fprintf(stderr, "no orbit at %g rpm: %s\n", rpm, orbit.failure.c_str());
             std::exit(3);
           }
-        guess = orbit.state;
+        // The secant needs two orbits of one branch: none before the first, one after a jump.
+        before = c.rms.empty() || jumped ? std::vector<double>{} : last;
+        last   = orbit.state;
         c.rms.push_back(analyse_orbit(model, orbit, analysis).rms_dte_m);
         c.stable.push_back(orbit.stable);
       }

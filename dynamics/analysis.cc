@@ -60,6 +60,8 @@ namespace hertzgear::dynamics
             const double d2 = std::abs(q[m - 1][k] - 2.0 * q[m][k] + q[m + 1][k]);
             if (q[j_best][k] + d2 < best[k])
               continue;
+            if (monotone_into_end(q, k, j_best))
+              continue;
             const double a = t[std::max(j_best - 1, 0)], b = t[std::min(j_best + 1, n_sub)];
             // On the bracket's own coordinate s in [0, 1]: Boost's tolerance is relative to the
             // abscissa, and 2^-26 of t would be far coarser than 2^-26 of the bracket.
@@ -102,6 +104,31 @@ namespace hertzgear::dynamics
         const MeshState ms = model.mesh_state(t, y.data());
         return {ms.dte_m, -ms.dte_m, ms.force_N, -ms.force_N, std::abs(ms.penetration_m)};
       }
+
+      // True when the largest point is an end of the step and q runs into it monotonically, so
+      // that the bracket's maximum is that end point, already recorded. The slope at the end is
+      // estimated by the quadratic through the three points nearest it; it must keep its sign
+      // with the third difference as margin (a turning point between two points and a return
+      // above the end needs a third difference of the slope's size).
+      static bool monotone_into_end(const std::array<std::array<double, n_q>, n_sub + 1> &q,
+                                    const int k, const int j_best)
+      {
+        if (j_best == n_sub)
+          {
+            const auto  &a  = q[n_sub][k], &b = q[n_sub - 1][k], &c = q[n_sub - 2][k];
+            const double d1 = a - b, d2 = a - 2.0 * b + c;
+            const double d3 = a - 3.0 * b + 3.0 * c - q[n_sub - 3][k];
+            return d1 + 0.5 * d2 > std::abs(d3);
+          }
+        if (j_best == 0)
+          {
+            const double d1 = q[1][k] - q[0][k], d2 = q[2][k] - 2.0 * q[1][k] + q[0][k];
+            const double d3 = q[3][k] - 3.0 * q[2][k] + 3.0 * q[1][k] - q[0][k];
+            return -(d1 - 0.5 * d2) > std::abs(d3);
+          }
+        return false;
+      }
+      static_assert(n_sub >= 3, "the end slopes take four points");
 
       void record(const int k, const double value, const double t)
       {

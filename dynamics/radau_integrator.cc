@@ -321,6 +321,22 @@ namespace hertzgear::dynamics
       return T;
     }
 
+    // The tableau of s stages, built once per process for every admissible s (each build
+    // bisects the nodes on a fine grid, which would otherwise cost as much as a few hundred steps
+    // for every integrator made, such as one per Newton iteration of the shooting method).
+    const Tableau &tableau(const int s)
+    {
+      HG_REQUIRE_INPUT(s >= 3 && s <= s_max && s % 2 == 1,
+                       "radau-iia needs an odd number of stages between 3 and ", s_max, ", got ", s);
+      static const std::vector<Tableau> all = [] {
+        std::vector<Tableau> t;
+        for (int k = 3; k <= s_max; k += 2)
+          t.push_back(make_tableau(k));
+        return t;
+      }();
+      return all[std::size_t((s - 3) / 2)];
+    }
+
     // The integrator proper for a state of dimension N (0: at run time, <= n_max) and S stages,
     // both fixed at compile time for the gear pair (n = 2 or 3, s = 3, 5, 7 or 9) so that the
     // loops over states and stages unroll; a step costs a few microseconds, of which the
@@ -1273,7 +1289,7 @@ namespace hertzgear::dynamics
     public:
       explicit RadauIIA(const IntegratorSettings &st)
         : settings(st)
-        , tab(make_tableau(st.stages > 0 ? st.stages : default_stages(st.relative_tolerance)))
+        , tab(tableau(st.stages > 0 ? st.stages : default_stages(st.relative_tolerance)))
       {
         statistics.name = "radau-iia";
       }
