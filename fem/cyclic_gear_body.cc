@@ -294,6 +294,8 @@ namespace hertzgear::fem
       {
         if (only_harmonic >= 0 && k != only_harmonic)
           continue;
+        if (parameters.between_work_units)
+          parameters.between_work_units();
         const std::complex<double> w = std::polar(1.0, 2.0 * M_PI * k / N);
         H = D.cast<std::complex<double>>() + w * E.cast<std::complex<double>>() +
             std::conj(w) * E.transpose().cast<std::complex<double>>();
@@ -375,6 +377,8 @@ namespace hertzgear::fem
       std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, body.n_dofs())))));
     for (std::size_t start = 0; start < n_rhs; start += block)
       {
+        if (parameters.between_work_units)
+          parameters.between_work_units();
         const std::size_t       end = std::min(n_rhs, start + block);
         std::vector<Vec>        b, x;
         std::vector<VectorType> rhs, solutions(end - start);

@@ -29,6 +29,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <set>
@@ -48,6 +49,9 @@ namespace hertzgear::fem
       dealii::types::boundary_id           cut_end_id   = 12; // A turned by 2 pi / n_teeth (B)
       // Who shares the harmonics (each process holds the whole sector).
       MPI_Comm harmonic_communicator = MPI_COMM_SELF;
+      // Called between units of work (a block of interior solves, a cyclic harmonic): the FE
+      // stage lends the cores of a rank that has finished its own body here (CoreLending).
+      std::function<void()> between_work_units;
     };
 
     // `sector`: a serial triangulation of one tooth centred on +x (the tooth at polar angle 0),

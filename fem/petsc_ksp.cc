@@ -65,43 +65,52 @@ namespace hertzgear
       const long long v1_cur = read_bytes("/sys/fs/cgroup/memory/memory.usage_in_bytes");
       if (v1_max > 0 && v1_max < (1LL << 60) && v1_cur >= 0)
         available = std::min(available, v1_max - v1_cur);
-      MPI_Comm node;
-      int      ranks_on_node = 1;
-      if (MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) == MPI_SUCCESS)
-        {
-          MPI_Comm_size(node, &ranks_on_node);
-          MPI_Comm_free(&node);
-        }
+      const int ranks = ranks_on_node(comm);
       // Unknown (no /proc/meminfo): no limit. The smallest share over the ranks, so that every
       // rank applies the same limit (every rank takes part in the reduction).
       const long share =
         available == std::numeric_limits<long long>::max() ?
           std::numeric_limits<int>::max() :
-          static_cast<long>(std::max<long long>(1, available / ranks_on_node / (1024 * 1024)));
+          static_cast<long>(std::max<long long>(1, available / ranks / (1024 * 1024)));
       long smallest = share;
       MPI_Allreduce(&share, &smallest, 1, MPI_LONG, MPI_MIN, comm);
       return smallest;
     }
 
-    int share_blas_threads_between_ranks(MPI_Comm comm)
+    int ranks_on_node(MPI_Comm comm)
     {
       MPI_Comm node;
-      int      ranks_on_node = 1;
+      int      ranks = 1;
       if (MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node) == MPI_SUCCESS)
         {
-          MPI_Comm_size(node, &ranks_on_node);
+          MPI_Comm_size(node, &ranks);
           MPI_Comm_free(&node);
         }
-      if (ranks_on_node <= 1)
-        return 0;
+      return ranks;
+    }
+
+    bool set_blas_threads(const int threads)
+    {
       using SetThreads = void (*)(int);
       const auto set   = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
       if (set == nullptr)
+        return false;
+      set(std::max(1, threads));
+      return true;
+    }
+
+    int cores_of_node()
+    {
+      return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    }
+
+    int share_blas_threads_between_ranks(MPI_Comm comm)
+    {
+      const int ranks = ranks_on_node(comm);
+      if (ranks <= 1)
         return 0;
-      const int cores   = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-      const int threads = std::max(1, cores / ranks_on_node);
-      set(threads);
-      return threads;
+      const int threads = std::max(1, cores_of_node() / ranks);
+      return set_blas_threads(threads) ? threads : 0;
     }
 
     namespace

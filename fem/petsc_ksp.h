@@ -48,6 +48,11 @@ namespace hertzgear
     // `mpirun -np 2` on 2 cores runs 2 threads in all, not 4. One rank keeps OpenBLAS's default
     // (every core). Nothing happens with another BLAS. Returns the threads per rank set, 0 if none.
     int share_blas_threads_between_ranks(MPI_Comm comm);
+    // The ranks of `comm` on this process's node, and the cores of the node.
+    int ranks_on_node(MPI_Comm comm);
+    int cores_of_node();
+    // Lets OpenBLAS use `threads` threads from its next call on; false with another BLAS.
+    bool set_blas_threads(int threads);
 
     // Solves A X = B for several right-hand sides at once with the factors held by `ksp` (made
     // by create_mumps_lu or create_mumps_cholesky): the columns go to MUMPS as one dense block, so

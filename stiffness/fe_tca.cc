@@ -6,6 +6,7 @@
 #include "common/progress.h"
 #include "contact/mesh_cycle.h"
 #include "fem/body_fields.h"
+#include "fem/core_lending.h"
 #include "fem/cyclic_gear_body.h"
 #include "fem/flank_compliance.h"
 #include "fem/mpi_root.h"
@@ -19,6 +20,7 @@
 
 #include <array>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -178,6 +180,7 @@ namespace hertzgear::stiffness
     {
       int    owner     = 0;
       double wall_s    = 0; // building and tabulating, on the owner
+      std::function<void()> between_work_units; // on the owner, between its units of work
       virtual std::size_t n_cut_face_dofs() const = 0;
       virtual void build_and_tabulate() = 0; // on the owner
       virtual void share()              = 0; // collective
@@ -220,6 +223,7 @@ namespace hertzgear::stiffness
         p.n_teeth                  = static_cast<unsigned int>(gear.n_teeth());
         p.cut_start_id             = tag::sector_cut_start;
         p.cut_end_id               = tag::sector_cut_end;
+        p.between_work_units       = between_work_units;
         body = std::make_unique<fem::CyclicGearBody<dim>>(sector, p);
         // The sector's one tooth (tooth 0 of its mesh) carries every load, turned into it.
         body->set_load_boundary_ids({static_cast<dealii::types::boundary_id>(tag::drive_flank)});
@@ -624,17 +628,29 @@ namespace hertzgear::stiffness
             else
               shared[b] = std::make_unique<CyclicBodyModel<3>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
           }
+        // On two ranks the one that finishes first lends its cores to the other.
+        fem::CoreLending lending(MPI_COMM_WORLD);
         fem::on_every_rank(MPI_COMM_WORLD, [&] {
-          for (unsigned int b = 0; b < 2; ++b)
-            if (shared[b]->owner == processes::rank())
-              try
-                {
-                  shared[b]->build_and_tabulate();
-                }
-              catch (const fem::PatchOffMeshError &e)
-                {
-                  throw ParameterError("level", too_coarse_message(b, s[b], e.what()));
-                }
+          try
+            {
+              for (unsigned int b = 0; b < 2; ++b)
+                if (shared[b]->owner == processes::rank())
+                  try
+                    {
+                      shared[b]->between_work_units = [&lending] { lending.poll(); };
+                      shared[b]->build_and_tabulate();
+                    }
+                  catch (const fem::PatchOffMeshError &e)
+                    {
+                      throw ParameterError("level", too_coarse_message(b, s[b], e.what()));
+                    }
+            }
+          catch (...)
+            {
+              lending.finish(); // the partner waits for this rank's word before any collective
+              throw;
+            }
+          lending.finish();
         });
         for (unsigned int b = 0; b < 2; ++b)
           {

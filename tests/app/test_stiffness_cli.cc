@@ -558,6 +558,28 @@ TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnFullGears)
   EXPECT_TRUE(fs::exists(mpi / "fields" / "gear_0000.pvtu"));
 }
 
+TEST(StiffnessCliMpi, AFailureOfOneRanksBodyEndsBothRanks)
+{
+  // Requirement: on two ranks each full gear is built on its own rank, and the rank that finishes
+  // first waits for the other's word before lending it its cores (fem/core_lending.h). A body
+  // that fails on one rank while the other rank's body succeeds must end both ranks promptly
+  // with the failure's exit code and message and no table. The MUMPS memory guard makes the
+  // failure one-sided: at the default level with 3 positions MUMPS estimates 7 MB for the
+  // pinion's sector and 9 MB for the gear's, so a limit of 8 MB stops the gear alone. `timeout`
+  // turns a rank that waits forever into exit 124 instead of a hung test.
+  if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
+    GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
+  const fs::path out = fresh_temp_dir("stiffness_mpi2_failure");
+  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") +
+                                 " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1"
+                                 " --out " + out.string(),
+                               "env PETSC_OPTIONS='-mat_mumps_icntl_23 8' timeout 120 mpirun -np 2 --oversubscribe");
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("estimates 9 MB per process"));
+  EXPECT_FALSE(fs::exists(out / "stiffness.csv"));
+  EXPECT_FALSE(fs::exists(out / "stiffness.json"));
+}
+
 TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnADistributedSector)
 {
   // Requirement: the body model for a body too large for one rank, a sector assembled and

@@ -1,0 +1,65 @@
+#include "fem/core_lending.h"
+
+#include "fem/petsc_ksp.h"
+
+#include <chrono>
+#include <thread>
+
+namespace hertzgear::fem
+{
+  namespace
+  {
+    constexpr int done_tag = 4711; // the one message each way
+  }
+
+  CoreLending::CoreLending(const MPI_Comm communicator)
+    : comm(communicator)
+  {
+    int size = 1, rank = 0;
+    MPI_Comm_size(comm, &size);
+    MPI_Comm_rank(comm, &rank);
+    if (size != 2 || ranks_on_node(comm) != 2)
+      return;
+    all_threads = cores_of_node();
+    own_threads = std::max(1, all_threads / 2);
+    if (all_threads <= own_threads || !set_blas_threads(own_threads))
+      return; // nothing to lend, or not OpenBLAS
+    partner = 1 - rank;
+    MPI_Irecv(&message, 1, MPI_INT, partner, done_tag, comm, &request);
+  }
+
+  CoreLending::~CoreLending()
+  {
+    finish();
+  }
+
+  bool CoreLending::test_partner()
+  {
+    if (!partner_done)
+      {
+        int flag = 0;
+        MPI_Test(&request, &flag, MPI_STATUS_IGNORE);
+        partner_done = flag != 0;
+      }
+    return partner_done;
+  }
+
+  void CoreLending::poll()
+  {
+    if (partner < 0 || finished || took_cores || !test_partner())
+      return;
+    took_cores = set_blas_threads(all_threads);
+  }
+
+  void CoreLending::finish()
+  {
+    if (partner < 0 || finished)
+      return;
+    finished = true;
+    const int one = 1;
+    MPI_Send(&one, 1, MPI_INT, partner, done_tag, comm); // one int: sent eagerly
+    while (!test_partner())
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    set_blas_threads(own_threads);
+  }
+} // namespace hertzgear::fem

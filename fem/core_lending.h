@@ -1,0 +1,47 @@
+#pragma once
+// Cores lent between two ranks that each work on a body of their own.
+//
+// Under `mpirun -np 2` each gear of a pair is built and tabulated by its own rank, with half the
+// node's cores for its dense kernels (OpenBLAS under MUMPS and LAPACK,
+// share_blas_threads_between_ranks). The gears differ in size, so one rank finishes first and
+// would then wait, its cores idle, for the other. Instead it tells the other rank that it is
+// done and waits without spinning (a test of the message every millisecond); the other rank,
+// at its next unit of work (a block of interior solves, a cyclic harmonic: `poll`), takes every
+// core of the node for its OpenBLAS threads. Each rank goes back to its share when both are done.
+//
+// The exchange is one message each way between ranks 0 and 1 of `comm`; it is active only when
+// `comm` has exactly two ranks on one node and OpenBLAS is the BLAS. Otherwise every call is a
+// no-op. `finish` must be called on both ranks (also after a failure of the rank's own work: it
+// does not throw), before any collective call of `comm`.
+#include <mpi.h>
+
+namespace hertzgear::fem
+{
+  class CoreLending
+  {
+  public:
+    explicit CoreLending(MPI_Comm comm);
+    ~CoreLending();
+    CoreLending(const CoreLending &) = delete;
+    CoreLending &operator=(const CoreLending &) = delete;
+
+    // Between units of this rank's own work: once the partner has finished, take its cores.
+    void poll();
+    // This rank's own work is done (or failed): tell the partner, wait for it, and go back to
+    // this rank's share of the cores.
+    void finish();
+
+    // Whether this rank took the partner's cores before it finished (for the progress lines).
+    bool borrowed() const { return took_cores; }
+
+  private:
+    MPI_Comm    comm;
+    int         partner    = -1; // -1: inactive
+    int         own_threads = 0, all_threads = 0;
+    MPI_Request request    = MPI_REQUEST_NULL;
+    int         message    = 0;
+    bool        partner_done = false, finished = false, took_cores = false;
+
+    bool test_partner();
+  };
+} // namespace hertzgear::fem
