@@ -26,6 +26,22 @@ namespace
   const std::string coarse = " --set Stiffness/fe_level=0 --set Stiffness/fe_degree=1"
                              " --set Stiffness/positions_per_cycle=5"
                              " --set Stiffness/harmonics=2";
+
+  // Requirement of the memory guard: a `hertzgear stiffness` run whose MUMPS factorisation is
+  // estimated beyond `limit_MB` (PETSC_OPTIONS -mat_mumps_icntl_23) stops before it allocates,
+  // as a numerical failure (exit 3) whose message names `estimate`, and leaves no table behind.
+  void expect_stopped_by_memory_guard(const std::string &scene_and_settings, const fs::path &out,
+                                      const int limit_MB, const std::string &launcher,
+                                      const std::string &estimate)
+  {
+    const auto r = run_hertzgear("stiffness " + scene_and_settings + " --out " + out.string(),
+                                 "env PETSC_OPTIONS='-mat_mumps_icntl_23 " + std::to_string(limit_MB) +
+                                   "'" + (launcher.empty() ? "" : " " + launcher));
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_THAT(r.err, ::testing::HasSubstr(estimate));
+    EXPECT_FALSE(fs::exists(out / "stiffness.csv"));
+    EXPECT_FALSE(fs::exists(out / "stiffness.json"));
+  }
 } // namespace
 
 TEST(StiffnessCli, WritesTheContractColumnsAndATableTheDynamicsReads)
@@ -220,16 +236,10 @@ TEST(StiffnessCli, AFullGearBeyondTheMemoryLimitStopsBeforeItsFactorisation)
   // sector whose factorisation MUMPS estimates beyond the limit (here 1 MB per process, through
   // PETSC_OPTIONS, for a coarse 3D tooth sector of some 10 000 DoFs) stops before it allocates, as a numerical failure (exit 3) that names the
   // estimate, and leaves no stiffness table behind.
-  const fs::path out = fresh_temp_dir("stiffness_memory_limit");
-  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_crowned.prm") +
-                                 " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=4"
-                                 " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1"
-                                 " --out " + out.string(),
-                               "env PETSC_OPTIONS='-mat_mumps_icntl_23 1'");
-  EXPECT_EQ(r.exit_code, 3) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("estimates"));
-  EXPECT_FALSE(fs::exists(out / "stiffness.csv"));
-  EXPECT_FALSE(fs::exists(out / "stiffness.json"));
+  expect_stopped_by_memory_guard(scene_path("paper_crowned.prm") +
+                                   " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=4"
+                                   " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1",
+                                 fresh_temp_dir("stiffness_memory_limit"), 1, "", "estimates");
 }
 
 TEST(StiffnessCli, FullGearsFromOneToothAgreeWithTheGearsMeshedWhole)
@@ -569,15 +579,10 @@ TEST(StiffnessCliMpi, AFailureOfOneRanksBodyEndsBothRanks)
   // turns a rank that waits forever into exit 124 instead of a hung test.
   if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
     GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
-  const fs::path out = fresh_temp_dir("stiffness_mpi2_failure");
-  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") +
-                                 " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1"
-                                 " --out " + out.string(),
-                               "env PETSC_OPTIONS='-mat_mumps_icntl_23 8' timeout 120 mpirun -np 2 --oversubscribe");
-  EXPECT_EQ(r.exit_code, 3) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("estimates 9 MB per process"));
-  EXPECT_FALSE(fs::exists(out / "stiffness.csv"));
-  EXPECT_FALSE(fs::exists(out / "stiffness.json"));
+  expect_stopped_by_memory_guard(scene_path("paper_uncrowned.prm") +
+                                   " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1",
+                                 fresh_temp_dir("stiffness_mpi2_failure"), 8,
+                                 "timeout 120 mpirun -np 2 --oversubscribe", "estimates 9 MB per process");
 }
 
 TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnADistributedSector)
