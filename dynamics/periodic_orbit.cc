@@ -334,8 +334,23 @@ namespace hertzgear::dynamics
         Eigen::PartialPivLU<Eigen::MatrixXd> lu(ev.J);
         const Eigen::VectorXd step = lu.solve(-ev.R);
         if (!step.allFinite())
-          return fail("the shooting Jacobian is singular (a Floquet multiplier at +1: a fold or "
-                      "a branch point)");
+          {
+            // An iterate that flies through the backlash for the whole period without a
+            // switching event carries no mesh force: its period map is a free flight, whose
+            // monodromy has the block [[1, kT], [0, 1]] in (x, x'), a double multiplier at +1
+            // (met from rough starts in a chaotic region, tests/dynamics/test_chaotic_region.cc).
+            bool free_flight = ev.events == 0 && model.n_roots() > 0;
+            for (int i = 0; i < m && free_flight; ++i)
+              free_flight = model.mesh_state(i * segment, X.data() + i * n).contact == 0;
+            if (free_flight)
+              return fail(msg("the shooting Jacobian is singular: the iterate after ", it - 1,
+                              " Newton step", it - 1 == 1 ? "" : "s",
+                              " flies through the backlash without contact for the whole period, "
+                              "a free flight with a double Floquet multiplier at +1; start from "
+                              "a state in contact"));
+            return fail("the shooting Jacobian is singular (a Floquet multiplier at +1: a fold or "
+                        "a branch point)");
+          }
         const double correction = step.lpNorm<Eigen::Infinity>();
         X_prev                  = X;
         step_prev               = step;

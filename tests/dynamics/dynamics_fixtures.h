@@ -127,6 +127,31 @@ namespace hertzgear::dynamics::testing
     return {tr / 2.0 + disc, tr / 2.0 - disc};
   }
 
+  // The dimensionless backlash oscillator of Kahraman & Singh (1990),
+  //   p'' + 2 zeta c(p) p' + f(p) = F_m + F_a cos(Omega t),  f with half backlash 1,
+  // as the gear-pair model at forcing frequency Omega (m = 1 kg, k = 1 N/m, b_c = 1 m, the layer
+  // off): e(t) = E cos(Omega t) with E = F_a / Omega^2 puts F_a cos(Omega t) on p = x - e. The
+  // viscous damping is the mesh's, so it acts in contact only (c(p) = 1 for |p| >= 1, 0 inside
+  // the backlash), where Kahraman & Singh keep it everywhere.
+  inline GearPairParameters kahraman_singh_oscillator(const double omega, const double zeta,
+                                                      const double F_m, const double F_a)
+  {
+    GearPairParameters prm;
+    prm.equivalent_mass_kg               = 1.0;
+    prm.static_force_N                   = F_m;
+    prm.half_backlash_m                  = 1.0;
+    prm.mesh_frequency_rad_per_s         = omega;
+    prm.damping_N_s_per_m                = 2 * zeta;
+    prm.stiffness.hertz_exponent         = 1.0;
+    prm.stiffness.k_rest_N_per_m.mean    = 1.0;
+    prm.stiffness.unloaded_ste_m         = {0.0, {F_a / (omega * omega)}, {0.0}};
+    prm.stiffness.has_unloaded_ste       = true;
+    prm.effects.hertzian_layer           = HertzianLayer::off;
+    prm.effects.mesh_stiffness_variation = false;
+    prm.effects.ste_excitation           = true;
+    return prm;
+  }
+
   // A unit oscillator (m = 1 kg, k = 1e6 N/m, omega_n = 1000 rad/s) for closed-form checks.
   inline GearPairParameters unit_oscillator(const double zeta, const double omega)
   {

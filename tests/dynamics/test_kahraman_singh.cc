@@ -77,24 +77,11 @@ namespace
     double omega, amplitude;
   };
 
-  // The gear-pair model set up as the oscillator above at forcing frequency Omega: e(t) =
-  // E cos(Omega t) with E = F_a / Omega^2 puts F_a cos(Omega t) on p = x - e.
+  // The gear-pair model set up as the oscillator above at forcing frequency Omega
+  // (dynamics_fixtures.h).
   GearPairParameters oscillator(const double omega)
   {
-    GearPairParameters prm;
-    prm.equivalent_mass_kg               = 1.0;
-    prm.static_force_N                   = F_m;
-    prm.half_backlash_m                  = 1.0;
-    prm.mesh_frequency_rad_per_s         = omega;
-    prm.damping_N_s_per_m                = 2 * zeta;
-    prm.stiffness.hertz_exponent         = 1.0;
-    prm.stiffness.k_rest_N_per_m.mean    = 1.0;
-    prm.stiffness.unloaded_ste_m         = {0.0, {F_a / (omega * omega)}, {0.0}};
-    prm.stiffness.has_unloaded_ste       = true;
-    prm.effects.hertzian_layer           = HertzianLayer::off;
-    prm.effects.mesh_stiffness_variation = false;
-    prm.effects.ste_excitation           = true;
-    return prm;
+    return kahraman_singh_oscillator(omega, zeta, F_m, F_a);
   }
 
   // Continuation sweep of the gear-pair model set up as the oscillator above.
