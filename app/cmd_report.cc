@@ -7,10 +7,14 @@
 // build), runs it with a Python 3 that has matplotlib, and maps its exit status: 0 success,
 // 2 bad input (no such directory, no artifact), anything else 1.
 #include "app/command.h"
+#include "app/run_directory.h"
 #include "app/scripts.h"
 #include "common/errors.h"
 
+#include <unistd.h>
+
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +31,16 @@ namespace hertzgear
       HG_REQUIRE_INPUT(ctx.overrides.empty(),
                        "report reads finished artifacts and takes no --set (got \"",
                        ctx.overrides.front(), "\"); set scene values when the run is made");
+      // Before the lock, which would make the folder.
+      HG_REQUIRE_INPUT(fs::is_directory(run_dir), "the run directory ", run_dir,
+                       " does not exist or is not a directory");
+      // A run that writes into the folder would have the report draw its old artifacts beside
+      // its new ones: the report holds the folder's lock, as a run does, and stops with exit 2
+      // while another process holds it. A folder this user cannot write into (shipped results)
+      // is read without it: no hertzgear run of this user writes there.
+      std::optional<RunLock> lock;
+      if (::access(run_dir.c_str(), W_OK) == 0)
+        lock.emplace(run_dir, "the run directory");
       return write_report(run_dir, ctx.out_dir);
     }
   } // namespace

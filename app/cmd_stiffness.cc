@@ -36,7 +36,10 @@ namespace hertzgear
           dir.lock();
           remove_partial_files(out); // what an interrupted run left under temporary names
         }
-      const auto result = write_stiffness(scene, dir, scene.output.write_fields, timer);
+      // The previous run's record leaves with its table: a table is never beside the
+      // used_parameters.prm and run.json of another run (they follow it at the end).
+      const auto result = write_stiffness(scene, dir, scene.output.write_fields, timer,
+                                          {"used_parameters.prm", "run.json"});
       if (writer)
         {
           const double n = scene.stiffness.hertz_exponent;

@@ -179,8 +179,10 @@ namespace hertzgear
         announce(plan);
         dir.lock(); // a second run on this folder stops here, before touching the first's files
         remove_partial_files(out);
-        // The report reads the scene values; written first, it is not an artifact of any stage.
+        // The report reads the scene values; written first, it is not an artifact of any stage,
+        // but every manifest of this run records its hash, which ties it to the artifacts.
         dir.write_text("used_parameters.prm", scene.used_parameters_prm);
+        parameters_hash = file_content_hash(out / "used_parameters.prm");
         for (const auto &[stage, why] : plan)
           run_stage(stage);
         finish();
@@ -197,6 +199,7 @@ namespace hertzgear
       const std::string       code;
       Scene                   dynamics_scene;
       std::vector<StageOutcome> outcomes;
+      std::string             parameters_hash; // of this run's used_parameters.prm
       // Content hashes of the artifacts so far, inputs of later stages.
       std::vector<std::pair<std::string, std::string>> produced;
 
@@ -257,6 +260,7 @@ namespace hertzgear
             const nlohmann::json manifest = nlohmann::json::parse(in);
             for (const auto &a : manifest.at("artifacts"))
               artifacts.push_back(a.at("path").get<std::string>());
+            record_parameters_hash(out, stage, parameters_hash); // now this run's artifacts
             progress_line("run", stage + ": reused (" + o.reason + ")");
           }
         else
@@ -269,7 +273,8 @@ namespace hertzgear
           }
         o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (o.ran)
-          write_manifest(out, stage, key, artifacts, o.wall_time_s); // last: the stage is done
+          write_manifest(out, stage, key, artifacts, o.wall_time_s, // last: the stage is done
+                         parameters_hash);
         else
           timer.add(stage + " (cached)", o.wall_time_s);
         for (const auto &a : artifacts)

@@ -43,13 +43,14 @@ namespace hertzgear
 
   // Exclusive use of a run directory for the life of this object: creates the folder (and its
   // parents) and takes an advisory lock (flock) on DIR/.hertzgear.lock, which the kernel releases
-  // when the process ends in any way. Throws InputError naming the folder and the reason when the
-  // folder cannot be made or written, and naming the holder's process when another hertzgear
-  // process uses it: a second run on one folder exits 2 at once instead of racing the first.
+  // when the process ends in any way. Throws InputError naming the folder (after `role`, the
+  // option or argument that gave it) and the reason when the folder cannot be made or written,
+  // and naming the holder's process when another hertzgear process uses it: a second run on one
+  // folder exits 2 at once instead of racing the first.
   class RunLock
   {
   public:
-    explicit RunLock(const std::filesystem::path &directory);
+    explicit RunLock(const std::filesystem::path &directory, const std::string &role = "--out");
     ~RunLock();
     RunLock(const RunLock &)            = delete;
     RunLock &operator=(const RunLock &) = delete;

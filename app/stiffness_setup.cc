@@ -92,7 +92,8 @@ namespace hertzgear
   }
 
   stiffness::StiffnessResult write_stiffness(const Scene &scene, const RunDirectory &dir,
-                                             const bool write_fields, PhaseTimer &timer)
+                                             const bool write_fields, PhaseTimer &timer,
+                                             const std::vector<std::string> &previous_records)
   {
     const auto &source = stiffness_source(scene);
     auto        input  = stiffness_input(scene);
@@ -103,23 +104,26 @@ namespace hertzgear
     if (processes::is_root())
       {
         PhaseTimer::Scope scope(timer, "write stiffness");
-        // The old fields leave before the new table arrives: an interruption between the table
-        // and the new fields leaves a table without fields, never a new table beside old fields.
-        fs::remove_all(dir.path() / "fields");
+        // What belongs to the previous table leaves before the new one arrives, the table
+        // (stiffness.json) first: an interruption at any point leaves the old set without some of
+        // its files, or the new set without some of its files, never a mix of the two (no new
+        // table beside old fields, no new stiffness.csv beside an old stiffness.json).
+        std::vector<std::string> previous = {"stiffness.json"};
+        previous.insert(previous.end(), previous_records.begin(), previous_records.end());
+        for (const auto *file : {"stiffness_map.csv", "contact_pattern.csv", "fields"})
+          previous.emplace_back(file);
+        for (const auto &file : previous)
+          fs::remove_all(dir.path() / file);
         nlohmann::json    json = stiffness::stiffness_json(result);
         json.update(provenance(scene));
         json["pair"] = stiffness::pair_record(input.pair); // ties the table to its pair
         dir.write_text("stiffness.csv", stiffness::stiffness_csv(result));
-        // The map and contact pattern of this table, or none (no stale ones beside it).
-        for (const auto &[file, text] :
-             {std::pair<std::string, std::string>{"stiffness_map.csv",
-                                                  result.map.empty() ? "" : stiffness::stiffness_map_csv(result)},
-              {"contact_pattern.csv", result.pattern.empty() ? "" : stiffness::contact_pattern_csv(result)}})
-          if (text.empty())
-            fs::remove(dir.path() / file);
-          else
-            dir.write_text(file, text);
-        dir.write_json("stiffness.json", json);
+        // The map and contact pattern of this table, when it has them.
+        if (!result.map.empty())
+          dir.write_text("stiffness_map.csv", stiffness::stiffness_map_csv(result));
+        if (!result.pattern.empty())
+          dir.write_text("contact_pattern.csv", stiffness::contact_pattern_csv(result));
+        dir.write_json("stiffness.json", json); // the table, last of the tables
         // The fields folder appears complete, after the tables, or not at all.
         commit_fields(result.fields_partial_dir, input.fe.fields_dir);
       }

@@ -10,6 +10,8 @@
 #include "stiffness/stiffness_source.h"
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace hertzgear
 {
@@ -25,6 +27,10 @@ namespace hertzgear
   // Computes the scene's stiffness (collective under MPI for the FE source) and writes
   // stiffness.csv and stiffness.json into `dir` on the writing process; with `write_fields` an
   // FE source also writes fields/, renamed into place after the tables. Meshes go to mesh/.
+  // Before the first new file, the files of the previous table leave: stiffness.json, the map,
+  // the contact pattern, fields/ and `previous_records` (the `stiffness` command's
+  // used_parameters.prm and run.json, which it writes anew at its end).
   stiffness::StiffnessResult write_stiffness(const Scene &scene, const RunDirectory &dir,
-                                             bool write_fields, PhaseTimer &timer);
+                                             bool write_fields, PhaseTimer &timer,
+                                             const std::vector<std::string> &previous_records = {});
 } // namespace hertzgear

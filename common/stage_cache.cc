@@ -21,6 +21,7 @@ namespace hertzgear
   {
     constexpr const char *cache_folder    = ".hertzgear-cache";
     constexpr const char *manifest_schema = "hertzgear-cache/1";
+    constexpr const char *parameters_key  = "used_parameters_hash";
 
     std::map<std::string, std::string> value_map(const std::string &lines)
     {
@@ -182,7 +183,8 @@ namespace hertzgear
   }
 
   void write_manifest(const fs::path &out, const std::string &stage, const StageKey &key,
-                      const std::vector<std::string> &artifacts, const double wall_time_s)
+                      const std::vector<std::string> &artifacts, const double wall_time_s,
+                      const std::string &parameters_hash)
   {
     nlohmann::json a = nlohmann::json::array();
     for (const auto &name : artifacts)
@@ -204,8 +206,20 @@ namespace hertzgear
                               {"scene_values", key.scene_values},
                               {"inputs", inputs},
                               {"artifacts", a},
+                              {parameters_key, parameters_hash},
                               {"wall_time_s", wall_time_s}};
     write_file_atomically(manifest_path(out, stage), j.dump(2) + "\n");
+  }
+
+  void record_parameters_hash(const fs::path &out, const std::string &stage,
+                              const std::string &parameters_hash)
+  {
+    const fs::path m = manifest_path(out, stage);
+    nlohmann::json j = nlohmann::json::parse(slurp_file(m));
+    if (j.value(parameters_key, "") == parameters_hash)
+      return;
+    j[parameters_key] = parameters_hash;
+    write_file_atomically(m, j.dump(2) + "\n");
   }
 
   // Leftover temporaries of an interrupted write (never trusted, removed before a run).

@@ -2,9 +2,10 @@
 // The cache of a staged run (`hertzgear run`, docs/architecture.md "The pipeline and its cache"):
 // DIR/.hertzgear-cache/<stage>.json records the stage's key (the scene values it read, the code
 // version, the content hashes of its input artifacts) and every artifact with its size and FNV-1a
-// hash. It is written atomically after the artifacts and removed before a stage runs, so an
-// interrupted stage never leaves a manifest behind; a stage is reused only when its key matches
-// and every artifact verifies.
+// hash, and the content hash of the run's used_parameters.prm (the report draws the scene values
+// from that file beside the artifacts: the hash ties them to one run). It is written atomically
+// after the artifacts and removed before a stage runs, so an interrupted stage never leaves a
+// manifest behind; a stage is reused only when its key matches and every artifact verifies.
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -38,9 +39,15 @@ namespace hertzgear
   // Empty when the cached stage is valid, else why it must run.
   std::string invalid_reason(const std::filesystem::path &out, const std::string &stage,
                              const StageKey &key);
-  // The manifest of a finished stage (written last, atomically).
+  // The manifest of a finished stage (written last, atomically); `parameters_hash` is the content
+  // hash of the used_parameters.prm of the run that wrote the artifacts.
   void write_manifest(const std::filesystem::path &out, const std::string &stage, const StageKey &key,
-                      const std::vector<std::string> &artifacts, double wall_time_s);
+                      const std::vector<std::string> &artifacts, double wall_time_s,
+                      const std::string &parameters_hash);
+  // A reused stage belongs to the run that reuses it: its manifest is rewritten (atomically) to
+  // record this run's used_parameters.prm hash, when it records another.
+  void record_parameters_hash(const std::filesystem::path &out, const std::string &stage,
+                              const std::string &parameters_hash);
   // Leftover temporaries of an interrupted write (never trusted, removed before a run).
   void remove_partial_files(const std::filesystem::path &out);
 } // namespace hertzgear

@@ -67,6 +67,8 @@ def main(argv=None):
             % (run_dir, ", ".join(artifacts.ARTIFACT_NAMES),
                ", ".join(f + "/" for f in artifacts.STAGE_FOLDERS if f)))
         return artifacts.EXIT_BAD_INPUT
+    for warning in art.warnings:
+        sys.stderr.write("hertzgear report: warning: %s\n" % warning)
     figure_files = write_report_folder(art, out_dir)
     index = os.path.join(out_dir, "index.html")
     sys.stderr.write("hertzgear report: %d figures, %s\n" % (len(figure_files), index))

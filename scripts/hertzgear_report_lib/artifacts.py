@@ -229,25 +229,44 @@ def fnv1a_64_hex(path):
     return "%016x" % h
 
 
+def written_by_run(folder):
+    """True when run.json says `hertzgear run` wrote the folder (a folder of single commands,
+    `hertzgear stiffness` or `dynamics`, has no cache manifests to check)."""
+    try:
+        return load_json(os.path.join(folder, "run.json")).get("stage") == "run"
+    except Exception:
+        return False
+
+
 def verified_by_manifests(folder):
-    """The artifacts (absolute paths) that a cache manifest of the run folder lists and that
-    still match their recorded size and hash; None when the folder has no manifests (a folder
-    written by a single command, not by `hertzgear run`)."""
+    """What the cache manifests of a run folder vouch for: (verified, foreign).
+
+    verified: the artifacts (absolute paths) that a manifest lists with their current size and
+    hash, and whose manifest records the content hash of the folder's used_parameters.prm (the
+    scene the page shows); None for a folder that is not a `hertzgear run` folder.
+    foreign: stage -> the artifacts (absolute paths) of the manifests that record another
+    used_parameters.prm; they vouch for nothing."""
     cache = os.path.join(folder, ".hertzgear-cache")
     if not os.path.isdir(cache):
-        return None
-    verified = set()
+        return (set() if written_by_run(folder) else None), {}
+    prm = os.path.join(folder, "used_parameters.prm")
+    parameters_hash = fnv1a_64_hex(prm) if os.path.isfile(prm) else None
+    verified, foreign = set(), {}
     for name in sorted(os.listdir(cache)):
         try:
             manifest = load_json(os.path.join(cache, name))
-            for a in manifest.get("artifacts", []):
-                p = os.path.normpath(os.path.join(folder, a["path"]))
+            listed = {os.path.normpath(os.path.join(folder, a["path"])): a
+                      for a in manifest.get("artifacts", [])}
+            if manifest.get("used_parameters_hash") != parameters_hash:
+                foreign[manifest.get("stage", name)] = set(listed)
+                continue
+            for p, a in listed.items():
                 if (os.path.isfile(p) and os.path.getsize(p) == a["size_bytes"]
                         and fnv1a_64_hex(p) == a["content_hash"]):
                     verified.add(p)
         except Exception:  # an unreadable manifest vouches for nothing
             continue
-    return verified
+    return verified, foreign
 
 
 class Artifacts:
@@ -266,22 +285,41 @@ class Artifacts:
         self.accuracy_tables = self._find_accuracy_tables()
         self.notes = []       # problems met while reading, shown on the page
         self._cache = {}
-        self.untrusted = self._untrusted()
+        self.untrusted = []   # artifacts the page shows that no verified manifest covers
+        self.warnings = []    # why they are untrusted: on the page and on stderr
+        self._check_manifests()
+        self.notes += self.warnings
+
+    def _check_manifests(self):
+        """Names on the page (and on stderr) what in a `hertzgear run` folder no verified
+        manifest of this run covers; a folder of single commands has no manifests to check."""
+        verified, foreign = verified_by_manifests(self.run_dir)
+        if verified is None:
+            return
+        if not os.path.isdir(os.path.join(self.run_dir, ".hertzgear-cache")):
+            self.warnings.append(
+                "This folder was written by `hertzgear run` but holds no cache manifest "
+                "(.hertzgear-cache/ is missing), so nothing vouches that its artifacts belong to "
+                "one run.")
+        drawn = {os.path.normpath(p) for p in self.paths.values()}
+        foreign_stages = [stage for stage, listed in foreign.items() if listed & drawn]
+        if foreign_stages:
+            self.untrusted.append("used_parameters.prm")
+            self.warnings.append(
+                "used_parameters.prm is not the scene of the run that wrote the artifacts of the "
+                "stage(s) %s: their cache manifests record another used_parameters.prm (another "
+                "run on this folder wrote its parameters after them: one interrupted, or one that "
+                "did not run these stages; or the file was replaced), so the scene values on this "
+                "page need not be those of the results." % ", ".join(foreign_stages))
+        self.untrusted += [os.path.relpath(p, self.run_dir) for name, p in self.paths.items()
+                           if os.path.normpath(p) not in verified
+                           and name not in ("used_parameters.prm", "run.json")]
         if self.untrusted:
-            self.notes.append(
+            self.warnings.append(
                 "Not covered by a verified cache manifest of this run folder, so they may come "
                 "from an interrupted or another run and need not belong with the rest: %s. "
                 "Run `hertzgear run` on the folder again to rebuild them."
                 % ", ".join(sorted(self.untrusted)))
-
-    def _untrusted(self):
-        """Artifacts of a `hertzgear run` folder that no verified manifest covers."""
-        verified = verified_by_manifests(self.run_dir)
-        if verified is None:
-            return []
-        return [os.path.relpath(p, self.run_dir) for name, p in self.paths.items()
-                if os.path.normpath(p) not in verified
-                and name not in ("used_parameters.prm", "run.json")]
 
     def _find_accuracy_tables(self):
         found = []

@@ -1,8 +1,19 @@
 // Requirements on bad input across the commands (docs/architecture.md, "Errors and exit codes"):
 // every case ends with exit code 2, a message that names the offending key, file or folder, and
-// no folder or file left behind; `hertzgear check` refuses the same scene; a hostile table path
-// (FIFO, device, directory, a file too large) ends within a second; two runs on one folder do not
-// race: the second stops at once with the lock message and the first's results verify.
+// no folder or file left behind, and `hertzgear check` refuses the same case (on the same --out
+// when the case is about the output place); a hostile table path (FIFO, device, directory, a file
+// too large) ends at once; a folder in use by one hertzgear process is refused by the next one
+// (run, stiffness, report) naming the process; the report names what no manifest of the run
+// vouches for; an interrupted `stiffness` run leaves no mixed or partial table.
+//
+// 69 refused cases (exit code, named key or file, no folder left; `check` on each):
+//   geometry (class 1) 12, tables (5) 18, output places (2) 9, scene text injection (8) 4,
+//   scene files (3, 9) 5, values (3, 9) 5, arguments (2, 9) 4, JSON (8, 9) 3,
+//   numerics (3, 4) 5, messages (9) 4 (two of them through `check` alone);
+// and 16 further cases: check and run accept the same valid scenes (4) 3, a table at another
+// load (5) 1, a folder in use (6) 5, the report's trust (7) 3, leftovers and durability (10) 4
+// (leftover temporaries, a manifest that vouches for nothing, `stiffness` stopped by SIGINT and
+// by SIGKILL). 85 cases in all; every class has at least three.
 #include "tests/support/run_command.h"
 
 #include <gmock/gmock.h>
@@ -10,12 +21,18 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <csignal>
+#include <functional>
 #include <fstream>
 #include <fcntl.h>
+#include <map>
+#include <regex>
+#include <sstream>
 #include <sys/file.h>
 #include <sys/stat.h>
-#include <unistd.h>
+#include <sys/wait.h>
 #include <thread>
+#include <unistd.h>
 
 using namespace hertzgear::testing;
 using ::testing::HasSubstr;
@@ -32,6 +49,14 @@ namespace
   const std::string fourier_scene = scene_path("paper_crowned_fourier.prm") +
                                     " --set Dynamics/periods=60 --set Dynamics/transient_periods=30"
                                     " --set Output/report=false";
+  // A run with a stiffness stage: the paper's crowned pair with closed-form stiffness (no FE),
+  // 60 mesh periods, no report.
+  const std::string analytic_scene = scene_path("paper_crowned.prm") +
+                                     " --set Stiffness/source=hertz-analytic"
+                                     " --set Stiffness/positions_per_cycle=16 --set Dynamics/periods=60"
+                                     " --set Dynamics/transient_periods=30 --set Output/report=false";
+  // A closed-form stiffness scene for the `stiffness` command (no FE: a fraction of a second).
+  const std::string iso_scene = scene_path("paper_uncrowned.prm") + " --set Stiffness/source=iso6336";
   const std::string table_scene = scene_path("paper_crowned_table.prm") +
                                   " --set Dynamics/periods=60 --set Dynamics/transient_periods=30"
                                   " --set Output/report=false";
@@ -40,7 +65,8 @@ namespace
   struct Fixtures
   {
     fs::path dir, fifo, big, not_json, string_value, negative, other_pair, newline_scene,
-      hash_scene, regular_file;
+      hash_scene, regular_file, unknown_entry, unclosed, word_value, malformed_json, array_section,
+      object_value;
 
     Fixtures()
     {
@@ -77,6 +103,21 @@ namespace
       std::ofstream(hash_scene) << R"({"Stiffness": {"table_file": "data/stiffness/paper_crowned.json#x"}})";
       regular_file = dir / "a_file";
       std::ofstream(regular_file) << "x";
+      // Scene files that are no scenes.
+      unknown_entry = dir / "unknown_entry.prm";
+      std::ofstream(unknown_entry) << "subsection Stiffness\n  set frobnicate = 1\nend\n";
+      unclosed = dir / "unclosed.prm";
+      std::ofstream(unclosed) << "subsection Stiffness\n  set harmonics = 2\n";
+      word_value = dir / "word_value.prm";
+      std::ofstream(word_value) << "subsection Gear pair\n  subsection Pinion\n    set teeth = many\n"
+                                   "  end\nend\n";
+      malformed_json = dir / "malformed.json";
+      std::ofstream(malformed_json) << R"({"Operating": {"torque_Nm": 100,)";
+      array_section = dir / "array_section.json";
+      std::ofstream(array_section) << R"({"Gear pair": [1, 2]})";
+      object_value = dir / "object_value.json";
+      // An object where an entry is expected ({"value": ...} is the entry form; this is not).
+      std::ofstream(object_value) << R"({"Operating": {"torque_Nm": {"amount": 100}}})";
     }
   };
 
@@ -84,6 +125,50 @@ namespace
   {
     static const Fixtures f;
     return f;
+  }
+
+  // Holds DIR's lock as a running hertzgear process does: a flock on DIR/.hertzgear.lock with
+  // the holder's process number inside, for the life of the object.
+  class HeldFolder
+  {
+  public:
+    explicit HeldFolder(const fs::path &dir) : pid(std::to_string(::getpid()))
+    {
+      fs::create_directories(dir);
+      fd = ::open((dir / ".hertzgear.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+      EXPECT_GE(fd, 0);
+      EXPECT_EQ(::flock(fd, LOCK_EX), 0);
+      EXPECT_EQ(::pwrite(fd, pid.data(), pid.size(), 0), static_cast<ssize_t>(pid.size()));
+    }
+    ~HeldFolder() { ::close(fd); }
+    HeldFolder(const HeldFolder &)            = delete;
+    HeldFolder &operator=(const HeldFolder &) = delete;
+    const std::string pid;
+
+  private:
+    int fd = -1;
+  };
+
+  // Every file below DIR with its content.
+  std::map<std::string, std::string> contents_below(const fs::path &dir)
+  {
+    std::map<std::string, std::string> files;
+    for (const auto &e : fs::recursive_directory_iterator(dir))
+      if (e.is_regular_file())
+        files[fs::relative(e.path(), dir).string()] = slurp(e.path());
+    return files;
+  }
+
+  // Requirement: `command` on DIR, which another process holds, exits 2 at once naming that
+  // process and changes nothing in DIR.
+  void expect_refused_while_held(const std::string &command, const fs::path &dir)
+  {
+    const HeldFolder held(dir);
+    const auto       before = contents_below(dir);
+    const auto       r      = run_hertzgear(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr("the folder is in use by process " + held.pid)) << command;
+    EXPECT_EQ(contents_below(dir), before) << command << ": changed a folder in use";
   }
 
   struct Case
@@ -108,12 +193,13 @@ namespace
     // Refusal comes from the checks, before any work: far within a second for these scenes (a
     // generous bound that a hang on a FIFO or a read of /dev/zero would exceed by far).
     EXPECT_LT(wall, 10.0) << what;
-    if (c.out.empty())
-      {
-        const auto check = run_hertzgear("check " + c.scene);
-        EXPECT_EQ(check.exit_code, 2) << "check " << c.scene << "\n" << check.err;
-        EXPECT_THAT(check.err, HasSubstr(c.named)) << "check " << c.scene;
-      }
+    // `check` agrees on every case (class 4): on the same scene, and on the same --out when the
+    // case is about the output place (`check --out` writes the resolved scene there).
+    const std::string check = "check " + c.scene + (c.out.empty() ? "" : " --out " + quoted(out));
+    const auto        refused = run_hertzgear(check);
+    EXPECT_EQ(refused.exit_code, 2) << check << "\n" << refused.err;
+    EXPECT_THAT(refused.err, HasSubstr(c.named)) << check;
+    EXPECT_FALSE(fs::exists(fresh)) << check << ": left a folder";
   }
 } // namespace
 
@@ -177,9 +263,7 @@ TEST(BadInput, OutputPlacesThatCannotHoldARunNameTheFolderAndTheReason)
   const auto &f = fixtures();
   for (const std::string command : {"run", "dynamics", "stiffness"})
     {
-      const std::string scene = command == "stiffness" ? scene_path("paper_uncrowned.prm") +
-                                                           " --set Stiffness/source=iso6336" :
-                                                         fourier_scene;
+      const std::string scene = command == "stiffness" ? iso_scene : fourier_scene;
       expect_refused({command, scene, "is a file, not a folder", f.regular_file.string()});
       expect_refused({command, scene, "Not a directory", (f.regular_file / "x").string()});
       expect_refused({command, scene, "cannot create the folder", "/proc/hertzgear_run"});
@@ -196,25 +280,140 @@ TEST(BadInput, SceneStringsCannotInjectEntriesOrComments)
   expect_refused({"dynamics", quoted(f.newline_scene), "\"teeth\""});
 }
 
+// Classes 3 and 9: scene files that cannot be read as scenes, refused before any folder, naming
+// the file and the line or key.
+TEST(BadInput, SceneFilesThatAreNoScenesNameTheFileAndTheLine)
+{
+  const auto &f = fixtures();
+  for (const auto &[scene, named] : std::vector<std::pair<fs::path, std::string>>{
+         {"/nonexistent/scene.prm", "/nonexistent/scene.prm"},
+         {f.dir, f.dir.string()},
+         {f.unknown_entry, "frobnicate"},
+         {f.unclosed, "unclosed.prm"},
+         {f.word_value, "\"many\""}})
+    expect_refused({"run", quoted(scene), named});
+}
+
+// Classes 3 and 9: values out of their range or no numbers, named with their key.
+TEST(BadInput, ValuesOutOfRangeAreRefusedNamingTheKey)
+{
+  for (const auto &[set, named] : std::vector<std::pair<std::string, std::string>>{
+         {"Dynamics/damping_ratio=-1", "damping_ratio"},
+         {"Operating/torque_Nm=nan", "torque_Nm"},
+         {"Operating/speed_rpm=inf", "speed_rpm"},
+         {"Operating/torque_Nm=1e400", "torque_Nm"},
+         {"'Gear pair/Pinion/teeth=2.5'", "teeth"}})
+    expect_refused({"run", fourier_scene + " --set " + set, named});
+}
+
+// Classes 2 and 9: command-line arguments that make no run.
+TEST(BadInput, ArgumentsThatMakeNoRunNameTheArgument)
+{
+  expect_refused({"run", fourier_scene + " --set Dynamics/periods", "Dynamics/periods"});
+  expect_refused({"run", fourier_scene + " --set Nowhere/key=1", "Nowhere"});
+  expect_refused({"run", fourier_scene + " --frobnicate", "--frobnicate"});
+  expect_refused({"dynamics", fourier_scene + " --set Dynamics/nonexistent_key=3", "nonexistent_key"});
+}
+
+// Classes 8 and 9: JSON scenes of the wrong shape.
+TEST(BadInput, JsonScenesOfTheWrongShapeNameTheFileAndTheKey)
+{
+  const auto &f = fixtures();
+  expect_refused({"run", quoted(f.malformed_json), "malformed.json"});
+  expect_refused({"run", quoted(f.array_section), "Gear pair"});
+  expect_refused({"run", quoted(f.object_value), "torque_Nm"});
+}
+
+// Classes 3 and 4: numerical settings a run would only fail on late (after it made its folder,
+// before the checks learnt them) are refused up front by `run` and by `check` alike.
+TEST(BadInput, NumericalSettingsThatCannotRunAreRefusedUpFront)
+{
+  for (const auto &[set, named] : std::vector<std::pair<std::string, std::string>>{
+         {"Dynamics/damping_ratio=0", "Dynamics/integrator"},
+         {"Dynamics/relative_tolerance=0", "relative_tolerance"},
+         {"Dynamics/periods=0", "periods"},
+         {"Dynamics/transient_periods=100", "transient_periods"}})
+    expect_refused({"run", fourier_scene + " --set " + set, named});
+  expect_refused({"stiffness",
+                  scene_path("paper_uncrowned.prm") +
+                    " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=4",
+                  "positions_per_cycle"});
+}
+
+TEST(BadInput, CheckAndRunAcceptTheSameValidScenes)
+{
+  // Requirement (class 4): `check` accepts what `run` accepts: both pass the valid scenes the
+  // cases above start from.
+  for (const std::string &scene : {fourier_scene, table_scene, analytic_scene})
+    {
+      const fs::path dir   = fresh_temp_dir("bad_input_valid_" + this_test());
+      const auto     check = run_hertzgear("check " + scene);
+      const auto     run   = run_hertzgear("run " + scene + " --set Output/report=false --out " + quoted(dir));
+      EXPECT_EQ(check.exit_code, 0) << scene << "\n" << check.err;
+      EXPECT_EQ(run.exit_code, 0) << scene << "\n" << run.err;
+    }
+}
+
 // Class 6: two runs on one folder.
 TEST(BadInput, AFolderInUseIsRefusedNamingTheProcess)
 {
   // Requirement: a run on a folder whose lock another process holds exits 2 at once, naming that
   // process, and writes nothing there; once the lock is free the run proceeds.
   const fs::path dir = fresh_temp_dir("bad_input_held");
-  fs::create_directories(dir);
-  const int      fd  = ::open((dir / ".hertzgear.lock").c_str(), O_RDWR | O_CREAT, 0644);
-  ASSERT_GE(fd, 0);
-  ASSERT_EQ(::flock(fd, LOCK_EX), 0);
-  const std::string pid = std::to_string(::getpid());
-  ASSERT_EQ(::pwrite(fd, pid.data(), pid.size(), 0), static_cast<ssize_t>(pid.size()));
-  const auto refused = run_hertzgear("run " + fourier_scene + " --out " + quoted(dir));
-  EXPECT_EQ(refused.exit_code, 2) << refused.err;
-  EXPECT_THAT(refused.err, HasSubstr("the folder is in use by process " + pid));
+  expect_refused_while_held("run " + fourier_scene + " --out " + quoted(dir), dir);
   EXPECT_FALSE(fs::exists(dir / "used_parameters.prm"));
-  ::close(fd);
   const auto r = run_hertzgear("run " + fourier_scene + " --out " + quoted(dir));
   EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST(BadInput, TheStiffnessCommandRefusesAFolderInUse)
+{
+  // Requirement: `stiffness` takes the folder as `run` does: into a folder another process holds
+  // it exits 2 naming that process, and leaves the folder's files as they were.
+  const fs::path dir = fresh_temp_dir("bad_input_held_stiffness");
+  ASSERT_EQ(run_hertzgear("stiffness " + iso_scene + " --out " + quoted(dir)).exit_code, 0);
+  expect_refused_while_held("stiffness " + iso_scene + " --set Operating/torque_Nm=300 --out " +
+                              quoted(dir),
+                            dir);
+}
+
+TEST(BadInput, TheReportRefusesAFolderInUse)
+{
+  // Requirement: the report of a folder that a run is writing into would draw the run's old
+  // artifacts beside its new ones: `report` exits 2 naming the process that holds the folder and
+  // writes no report; once the folder is free it draws the report.
+  const fs::path dir = fresh_temp_dir("bad_input_held_report");
+  ASSERT_EQ(run_hertzgear("run " + fourier_scene + " --out " + quoted(dir)).exit_code, 0);
+  expect_refused_while_held("report " + quoted(dir), dir);
+  EXPECT_FALSE(fs::exists(dir / "report"));
+  const auto r = run_hertzgear("report " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "report" / "index.html"));
+}
+
+TEST(BadInput, ALockFileLeftByAnEndedProcessDoesNotBlock)
+{
+  // Requirement: the lock is the kernel's flock, not the file: a .hertzgear.lock that an ended
+  // process left (its number inside, no holder) does not stop a run, which takes the folder.
+  const fs::path dir = fresh_temp_dir("bad_input_ended_lock");
+  fs::create_directories(dir);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0)
+    {
+      const int         fd  = ::open((dir / ".hertzgear.lock").c_str(), O_RDWR | O_CREAT, 0644);
+      const std::string pid = std::to_string(::getpid());
+      const bool ok = fd >= 0 && ::flock(fd, LOCK_EX) == 0 && ::write(fd, pid.data(), pid.size()) > 0;
+      ::_exit(ok ? 0 : 1); // ends holding the lock: the kernel releases it, the file stays
+    }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  ASSERT_EQ(slurp(dir / ".hertzgear.lock"), std::to_string(child));
+  const auto r = run_hertzgear("run " + fourier_scene + " --out " + quoted(dir));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "summary.json"));
+  EXPECT_NE(slurp(dir / ".hertzgear.lock"), std::to_string(child)) << "the run did not take the folder";
 }
 
 TEST(BadInput, ASecondRunOnAFolderInUseStopsAndTheFirstsResultsVerify)
@@ -252,8 +451,7 @@ TEST(BadInput, TheStiffnessCommandRemovesTheLeftoversOfAnInterruptedRun)
   fs::create_directories(dir / ".fields.hg-partial-1-0");
   std::ofstream(dir / ".fields.hg-partial-1-0" / "pinion_0000.vtu") << "partial";
   std::ofstream(dir / ".stiffness.csv.hg-partial-1-1") << "partial";
-  const auto r = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") +
-                               " --set Stiffness/source=iso6336 --out " + quoted(dir));
+  const auto r = run_hertzgear("stiffness " + iso_scene + " --out " + quoted(dir));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const auto &e : fs::recursive_directory_iterator(dir))
     EXPECT_THAT(e.path().filename().string(), ::testing::Not(HasSubstr("hg-partial"))) << e.path();
@@ -306,6 +504,69 @@ TEST(BadInput, TheReportMarksArtifactsNoVerifiedManifestCovers)
   EXPECT_THAT(slurp(dir / "report" / "index.html"), HasSubstr("summary.json"));
 }
 
+TEST(BadInput, TheReportWarnsWhenTheParametersAreOfAnotherRun)
+{
+  // Requirement: the report shows the scene values of used_parameters.prm beside the results only
+  // when the manifests of the stages that wrote them record that file's hash. Here the folder
+  // holds the parameters of a run with another damping ratio, as a run stopped right after it
+  // wrote them leaves them: the page and stderr warn, naming the file, the stages and the results.
+  // A complete run of that scene reruns the dynamics and re-records the reused stiffness stage
+  // under its parameters: then every manifest records the same parameters.
+  const fs::path    dir    = fresh_temp_dir("bad_input_report_parameters");
+  const fs::path    other  = fresh_temp_dir("bad_input_report_parameters_other");
+  const std::string damped = analytic_scene + " --set Dynamics/damping_ratio=0.03";
+  ASSERT_EQ(run_hertzgear("run " + analytic_scene + " --out " + quoted(dir)).exit_code, 0);
+  ASSERT_EQ(run_hertzgear("check " + damped + " --out " + quoted(other)).exit_code, 0);
+  const auto recorded = [&](const std::string &stage) {
+    return nlohmann::json::parse(slurp(dir / ".hertzgear-cache" / (stage + ".json")))
+      .at("used_parameters_hash")
+      .get<std::string>();
+  };
+  fs::copy_file(other / "used_parameters.prm", dir / "used_parameters.prm",
+                fs::copy_options::overwrite_existing);
+  const auto r = run_hertzgear("report " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string warning = "used_parameters.prm is not the scene of the run that wrote the "
+                              "artifacts of the stage(s) dynamics, stiffness";
+  EXPECT_THAT(r.err, HasSubstr("warning: " + warning));
+  const std::string page = slurp(dir / "report" / "index.html");
+  EXPECT_THAT(page, HasSubstr(warning));
+  EXPECT_THAT(page, HasSubstr("Not covered by a verified cache manifest"));
+  EXPECT_THAT(page, HasSubstr("summary.json"));
+
+  const std::string first = recorded("stiffness");
+  const auto        again = run_hertzgear("run " + damped + " --out " + quoted(dir));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("stiffness: reused"));
+  EXPECT_NE(recorded("stiffness"), first) << "the reused stiffness stage keeps the first run's record";
+  EXPECT_EQ(recorded("stiffness"), recorded("dynamics"));
+}
+
+TEST(BadInput, TheReportWarnsOnARunFolderWithoutManifests)
+{
+  // Requirement: a `hertzgear run` folder whose cache manifests are gone vouches for nothing: the
+  // report says so and names every result it draws as untrusted. A folder of a single command
+  // (`dynamics`), which never has manifests, is drawn without that warning.
+  const fs::path dir = fresh_temp_dir("bad_input_report_no_manifest");
+  ASSERT_EQ(run_hertzgear("run " + fourier_scene + " --out " + quoted(dir)).exit_code, 0);
+  fs::remove_all(dir / ".hertzgear-cache");
+  const auto r = run_hertzgear("report " + quoted(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("warning: This folder was written by `hertzgear run` but holds no cache manifest"));
+  const std::string page = slurp(dir / "report" / "index.html");
+  EXPECT_THAT(page, HasSubstr(".hertzgear-cache/ is missing"));
+  for (const char *result : {"summary.json", "timeseries.csv", "poincare.csv"})
+    EXPECT_THAT(page, HasSubstr(result)) << result;
+  EXPECT_THAT(page, HasSubstr("Not covered by a verified cache manifest"));
+
+  const fs::path single = fresh_temp_dir("bad_input_report_single_command");
+  ASSERT_EQ(run_hertzgear("dynamics " + fourier_scene + " --out " + quoted(single)).exit_code, 0);
+  const auto s = run_hertzgear("report " + quoted(single));
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_THAT(s.err, ::testing::Not(HasSubstr("warning:")));
+  EXPECT_THAT(slurp(single / "report" / "index.html"), ::testing::Not(HasSubstr("Not covered by")));
+}
+
 // Class 9: messages name the key, the file and the reason, once.
 TEST(BadInput, MessagesNameTheKeyTheFileAndTheReasonOnce)
 {
@@ -328,4 +589,181 @@ TEST(BadInput, MessagesNameTheKeyTheFileAndTheReasonOnce)
     run_hertzgear("check " + fourier_scene + " --set \"$(printf 'Stiffness/ab\\001c=1')\"");
   EXPECT_EQ(binary.exit_code, 2);
   EXPECT_THAT(binary.err, HasSubstr("ab\\x01c"));
+}
+// Class 10: an interrupted `stiffness` command, as Run.InterruptedRunLeavesNothingTrusted for `run`.
+namespace
+{
+  // The paper's uncrowned pair in 2D at FE level 0 with its fields: under a second of FE.
+  std::string fe_scene(const int positions)
+  {
+    return scene_path("paper_uncrowned.prm") +
+           " --set Stiffness/fe_level=0 --set Stiffness/harmonics=1 --set Output/write_fields=true"
+           " --set Stiffness/positions_per_cycle=" +
+           std::to_string(positions);
+  }
+
+  std::size_t count_of(const std::string &text, const std::string &what)
+  {
+    std::size_t n = 0;
+    for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+      ++n;
+    return n;
+  }
+
+  // What a stiffness folder must be at any instant: a stiffness.json under its final name is
+  // complete and has its stiffness.csv beside it with the same mesh positions; fields beside it
+  // hold exactly its positions; a run.json beside it is of the same scene. Returns the number of
+  // positions of the table, 0 when there is none.
+  std::size_t expect_stiffness_folder_consistent(const fs::path &dir, const std::string &when)
+  {
+    if (!fs::exists(dir / "stiffness.json"))
+      return 0;
+    nlohmann::json table;
+    EXPECT_NO_THROW(table = nlohmann::json::parse(slurp(dir / "stiffness.json")))
+      << when << ": stiffness.json is not complete JSON";
+    if (!table.is_object())
+      return 0;
+    const auto phases = table.at("samples").at("mesh_phase").get<std::vector<double>>();
+    // stiffness.csv: a header and one complete row per position of the same table.
+    std::istringstream       csv(slurp(dir / "stiffness.csv"));
+    std::vector<std::string> rows;
+    for (std::string line; std::getline(csv, line);)
+      if (!line.empty() && line[0] != '#')
+        rows.push_back(line);
+    EXPECT_EQ(rows.size(), phases.size() + 1) << when << ": stiffness.csv is not the table's";
+    for (std::size_t i = 1; i < rows.size() && i <= phases.size(); ++i)
+      {
+        const auto comma = rows[i].find(',');
+        // The CSV prints 10 significant digits; phases lie in [0, 1).
+        EXPECT_NEAR(std::stod(rows[i].substr(comma + 1)), phases[i - 1], 1e-9)
+          << when << ": row " << i << " of stiffness.csv";
+        EXPECT_EQ(count_of(rows[i], ","), count_of(rows[0], ",")) << when << ": cut row " << i;
+      }
+    // Fields beside the table: one data set per position of this table, never of another.
+    for (const char *pvd : {"pinion.pvd", "gear.pvd"})
+      if (fs::exists(dir / "fields" / pvd))
+        {
+          const std::string text = slurp(dir / "fields" / pvd);
+          EXPECT_EQ(count_of(text, "<DataSet"), phases.size()) << when << ": fields/" << pvd
+                                                               << " belong to another table";
+          EXPECT_THAT(text, HasSubstr("</VTKFile>")) << when << ": fields/" << pvd << " is cut";
+        }
+    if (fs::exists(dir / "used_parameters.prm"))
+      {
+        std::smatch       m;
+        const std::string prm = slurp(dir / "used_parameters.prm");
+        EXPECT_TRUE(std::regex_search(prm, m, std::regex(R"(positions_per_cycle\s*=\s*(\d+))")) &&
+                    std::stoul(m[1]) == phases.size())
+          << when << ": used_parameters.prm is of another run than stiffness.json";
+      }
+    if (fs::exists(dir / "run.json"))
+      {
+        EXPECT_EQ(nlohmann::json::parse(slurp(dir / "run.json")).at("scene_hash"), table.at("scene_hash"))
+          << when << ": run.json is of another run than stiffness.json";
+      }
+    return phases.size();
+  }
+
+  void complete_stiffness_run(const fs::path &dir, const int positions)
+  {
+    const auto r = run_hertzgear("stiffness " + fe_scene(positions) + " --out " + quoted(dir));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+
+  // Starts `hertzgear stiffness` into `dir`, sends it `signal` as soon as `reached(dir)` holds
+  // (polled every millisecond), and returns whether the signal stopped it (false: the run ended
+  // first, with exit code 0 asserted).
+  bool stiffness_run_stopped_when(const fs::path &dir, const int positions, const int signal,
+                                  const std::function<bool(const fs::path &)> &reached)
+  {
+    const std::string command = "exec '" + std::string(HERTZGEAR_EXE) + "' stiffness " +
+                                fe_scene(positions) + " --out " + quoted(dir) + " >/dev/null 2>&1";
+    const pid_t child = ::fork();
+    if (child == 0)
+      {
+        ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char *>(nullptr));
+        ::_exit(127);
+      }
+    EXPECT_GT(child, 0);
+    int status = 0;
+    while (::waitpid(child, &status, WNOHANG) == 0)
+      {
+        if (reached(dir))
+          {
+            ::kill(child, signal);
+            ::waitpid(child, &status, 0);
+            break;
+          }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    if (WIFSIGNALED(status))
+      return true;
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
+    return false;
+  }
+
+  bool fields_under_way(const fs::path &dir)
+  {
+    std::error_code ec;
+    for (const auto &e : fs::directory_iterator(dir, ec))
+      if (e.path().filename().string().rfind(".fields.hg-partial", 0) == 0)
+        return true;
+    return false;
+  }
+
+  // Requirement: a `stiffness` run stopped by `signal` leaves no partial file under a final name
+  // and no new table beside the old fields (or the old used_parameters.prm and run.json), and
+  // the next run removes the temporaries it left. The runs are stopped at two measured points,
+  // not after a time, so that a loaded machine changes nothing: while the FE stage writes the
+  // fields (hidden .fields.hg-partial-* folder present: the old files must all stand), and as
+  // soon as the old stiffness.json is gone (the commit of the new files has begun: the kill lands
+  // in the commit or, on a slow poll, after it). Each outcome is checked, not assumed.
+  void expect_stopped_stiffness_runs_leave_no_mix(const int signal)
+  {
+    const fs::path dir = fresh_temp_dir("bad_input_stiffness_" + std::to_string(signal));
+    // The old table has 5 positions and its fields; the stopped runs compute 7.
+    const int old_positions = 5, new_positions = 7;
+    complete_stiffness_run(dir, old_positions);
+    ASSERT_EQ(expect_stiffness_folder_consistent(dir, "first run"), std::size_t(old_positions));
+    const auto old_files = contents_below(dir);
+
+    ASSERT_TRUE(stiffness_run_stopped_when(dir, new_positions, signal, fields_under_way))
+      << "the run ended before its fields were written";
+    EXPECT_EQ(expect_stiffness_folder_consistent(dir, "stopped in the FE stage"),
+              std::size_t(old_positions));
+    for (const auto &[file, content] : old_files)
+      {
+        if (file != ".hertzgear.lock") // holds the process number of the last run
+          {
+            EXPECT_EQ(slurp(dir / file), content) << file << " changed before the commit";
+          }
+      }
+
+    const bool stopped = stiffness_run_stopped_when(dir, new_positions, signal, [](const fs::path &d) {
+      return !fs::exists(d / "stiffness.json");
+    });
+    const std::size_t n = expect_stiffness_folder_consistent(dir, stopped ? "stopped in the commit" :
+                                                                            "ended before the stop");
+    if (!stopped)
+      {
+        EXPECT_EQ(n, std::size_t(new_positions)) << "a completed run holds its own table";
+      }
+
+    complete_stiffness_run(dir, new_positions);
+    EXPECT_EQ(expect_stiffness_folder_consistent(dir, "last run"), std::size_t(new_positions));
+    EXPECT_TRUE(fs::exists(dir / "fields" / "pinion.pvd"));
+    for (const auto &e : fs::recursive_directory_iterator(dir))
+      EXPECT_THAT(e.path().filename().string(), ::testing::Not(HasSubstr("hg-partial")))
+        << "a temporary of a stopped run is left: " << e.path();
+  }
+} // namespace
+
+TEST(BadInput, AStiffnessRunStoppedBySigintLeavesNoMixedTable)
+{
+  expect_stopped_stiffness_runs_leave_no_mix(SIGINT);
+}
+
+TEST(BadInput, AStiffnessRunStoppedBySigkillLeavesNoMixedTable)
+{
+  expect_stopped_stiffness_runs_leave_no_mix(SIGKILL);
 }
