@@ -168,18 +168,11 @@ namespace hertzgear
       return os.str();
     }
 
-    template <typename T>
-    std::unique_ptr<Pattern> Range<T>::clone() const
-    {
-      return std::make_unique<Range<T>>(*this);
-    }
-
     template class Range<int>;
     template class Range<double>;
 
     bool Bool::match(const std::string &text) const { return text == "true" || text == "false"; }
     std::string Bool::description() const { return "[Bool]"; }
-    std::unique_ptr<Pattern> Bool::clone() const { return std::make_unique<Bool>(*this); }
 
     Selection::Selection(const std::string &choices_)
       : choices(choices_)
@@ -205,11 +198,9 @@ namespace hertzgear
     }
 
     std::string Selection::description() const { return "[Selection " + choices + " ]"; }
-    std::unique_ptr<Pattern> Selection::clone() const { return std::make_unique<Selection>(*this); }
 
     bool        Anything::match(const std::string &) const { return true; }
     std::string Anything::description() const { return "[Anything]"; }
-    std::unique_ptr<Pattern> Anything::clone() const { return std::make_unique<Anything>(*this); }
 
     List::List(const Pattern &element, const unsigned int min_length_,
                const unsigned int max_length_, const std::string &separator)
@@ -244,8 +235,6 @@ namespace hertzgear
       os << "]";
       return os.str();
     }
-
-    std::unique_ptr<Pattern> List::clone() const { return std::make_unique<List>(*this); }
 
     std::vector<std::string> split_list(const std::string &text, const std::string &separator)
     {
