@@ -69,16 +69,16 @@ namespace hertzgear
     return j;
   }
 
+  std::string csv_number(const double v)
+  {
+    std::ostringstream os;
+    os.precision(12);
+    os << v;
+    return os.str();
+  }
+
   namespace
   {
-    std::string csv_number(const double v)
-    {
-      std::ostringstream os;
-      os.precision(12);
-      os << v;
-      return os.str();
-    }
-
     void write_dynamics_artifacts(const RunDirectory &dir, const Scene &scene,
                                   const SimulationResult &result, const nlohmann::json &summary)
     {
@@ -186,24 +186,10 @@ namespace hertzgear
   {
     int run_dynamics(const CommandContext &ctx)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
-      if (ctx.out_dir.empty())
-        {
-          std::cout << run_dynamics_stage(scene, nullptr, timer).dump(2) << std::endl;
-          timer.print_summary(progress_stream());
-        }
-      else
-        {
-          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
-          run_dynamics_stage(scene, &dir, timer);
-          dir.finish(timer, {{"stage", "dynamics"}}); // prints the timing summary
-        }
-      return 0;
+      return run_stage_command(
+        ctx, run_dynamics_stage,
+        [](const nlohmann::json &summary) { std::cout << summary.dump(2) << std::endl; },
+        [](const nlohmann::json &) { return nlohmann::json{{"stage", "dynamics"}}; });
     }
 
     // The sweep's plain inputs from Sweep/* and --threads.
@@ -320,27 +306,22 @@ namespace hertzgear
   {
     int run_sweep(const CommandContext &ctx, const int n_threads_requested)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
+      const auto stage = [n_threads_requested](const Scene &scene, const RunDirectory *dir,
+                                               PhaseTimer &timer) {
+        return run_sweep_stage(scene, dir, timer, n_threads_requested);
+      };
       // Under mpirun only rank 0 writes; the other ranks compute their share of the points.
       if (!processes::is_root())
-        run_sweep_stage(scene, nullptr, timer, n_threads_requested);
-      else if (ctx.out_dir.empty())
         {
-          std::cout << run_sweep_stage(scene, nullptr, timer, n_threads_requested).sweep_csv;
-          timer.print_summary(progress_stream());
+          PhaseTimer timer;
+          stage(load_scene(ctx, timer), nullptr, timer);
+          return 0;
         }
-      else
-        {
-          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
-          const auto out = run_sweep_stage(scene, &dir, timer, n_threads_requested);
-          dir.finish(timer, {{"stage", "sweep"}, {"integrator", out.integrator}});
-        }
-      return 0;
+      return run_stage_command(
+        ctx, stage, [](const SweepStageOutput &out) { std::cout << out.sweep_csv; },
+        [](const SweepStageOutput &out) {
+          return nlohmann::json{{"stage", "sweep"}, {"integrator", out.integrator}};
+        });
     }
   } // namespace
 

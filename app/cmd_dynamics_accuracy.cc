@@ -40,12 +40,8 @@ namespace hertzgear
 
   int run_accuracy_dynamics(const CommandContext &ctx, const AccuracyDynamicsOptions &options)
   {
-    PhaseTimer timer;
-    Scene      scene;
-    {
-      PhaseTimer::Scope scope(timer, "scene");
-      scene = load_scene(ctx.scene_file, ctx.overrides);
-    }
+    PhaseTimer          timer;
+    const Scene         scene = load_scene(ctx, timer);
     const DynamicsSetup setup = make_dynamics_setup(scene);
     WorkPrecisionStudy  study;
     {

@@ -25,14 +25,6 @@ namespace hertzgear
 
   namespace
   {
-    std::string number(const double v)
-    {
-      std::ostringstream os;
-      os.precision(12);
-      os << v;
-      return os.str();
-    }
-
     std::string multipliers_text(const std::vector<std::complex<double>> &mu)
     {
       std::ostringstream os;
@@ -86,14 +78,14 @@ namespace hertzgear
         for (const auto &p : b.points)
           {
             const auto &s = p.summary;
-            os << number(p.lambda) << ',' << p.branch << ',' << p.period_multiple << ','
+            os << csv_number(p.lambda) << ',' << p.branch << ',' << p.period_multiple << ','
                << (p.stable ? 1 : 0) << ',' << bifurcation_name(p.bifurcation) << ','
-               << number(1e6 * s.rms_dte_m) << ',' << number(1e6 * s.min_dte_m) << ','
-               << number(1e6 * s.max_dte_m) << ',' << number(s.dynamic_factor) << ','
-               << number(s.contact_loss_fraction) << ',' << number(1e6 * s.max_penetration_m)
-               << ',' << number(std::abs(p.multipliers.front())) << ','
+               << csv_number(1e6 * s.rms_dte_m) << ',' << csv_number(1e6 * s.min_dte_m) << ','
+               << csv_number(1e6 * s.max_dte_m) << ',' << csv_number(s.dynamic_factor) << ','
+               << csv_number(s.contact_loss_fraction) << ','
+               << csv_number(1e6 * s.max_penetration_m) << ',' << csv_number(std::abs(p.multipliers.front())) << ','
                << multipliers_text(p.multipliers) << ',' << p.events_per_period << ','
-               << number(p.arclength) << ",shooting\n";
+               << csv_number(p.arclength) << ",shooting\n";
           }
       return os.str();
     }
@@ -218,24 +210,13 @@ namespace hertzgear
   {
     int run_response(const CommandContext &ctx)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
-      if (ctx.out_dir.empty())
-        {
-          std::cout << run_response_stage(scene, nullptr, timer, false).csv;
-          timer.print_summary(progress_stream());
-        }
-      else
-        {
-          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
-          run_response_stage(scene, &dir, timer, false);
-          dir.finish(timer, {{"stage", "response"}});
-        }
-      return 0;
+      return run_stage_command(
+        ctx,
+        [](const Scene &scene, const RunDirectory *dir, PhaseTimer &timer) {
+          return run_response_stage(scene, dir, timer, false);
+        },
+        [](const ResponseStageOutput &out) { std::cout << out.csv; },
+        [](const ResponseStageOutput &) { return nlohmann::json{{"stage", "response"}}; });
     }
   } // namespace
 
