@@ -34,12 +34,6 @@ namespace hertzgear
     return 0;
   }
 
-  // A number as the dynamics' CSV files write it: 12 significant digits.
-  std::string csv_number(double v);
-
-  nlohmann::json summary_json(const DynamicsSetup &setup, const dynamics::GearPairModel &model,
-                              const dynamics::SimulationResult &result,
-                              const dynamics::SteadyStateSummary &summary);
   // The options of `hertzgear accuracy dynamics`: which integrators, and how far the ladder of
   // tolerances goes.
   struct AccuracyDynamicsOptions

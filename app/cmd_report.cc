@@ -8,6 +8,7 @@
 // 2 bad input (no such directory, no artifact), anything else 1.
 #include "app/command.h"
 #include "app/scripts.h"
+#include "common/child_process.h"
 #include "common/errors.h"
 
 #include <iostream>

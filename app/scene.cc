@@ -5,6 +5,7 @@
 #include "common/errors.h"
 #include "app/meshing_setup.h"
 #include "common/hash.h"
+#include "common/input_file.h"
 #include "common/parameter_file.h"
 #include "meshing/gear_geometry.h"
 #include "stiffness/registry.h"
@@ -16,7 +17,6 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
-#include <set>
 #include <sstream>
 
 namespace hertzgear
@@ -44,16 +44,6 @@ namespace hertzgear
       return text + " Sources are described in docs/stiffness-closed-form.md and docs/theory-tca.md.";
     }
 
-    // One declared entry, for unknown-key detection on --set and for docs/scenes.md.
-    struct EntryInfo
-    {
-      std::string section; // "Gear pair/Pinion"
-      std::string key;
-      std::string default_value;
-      std::string allowed; // pattern description
-      std::string help;
-    };
-
     // The type of a default: that of its field (so that 10 is a double default of a double).
     template <typename T>
     struct Default
@@ -61,26 +51,18 @@ namespace hertzgear
       using type = T;
     };
 
-    // Declares entries bound to the fields of a Scene and records them.
+    // Declares the entries of a Scene, bound to its fields, each with its default (the parameter
+    // file records them for unknown-key detection on --set and for docs/scenes.md).
     class SceneSchema
     {
     public:
-      ParameterFile          prm;
-      std::vector<EntryInfo> entries;
-      std::vector<std::string> section_help; // "Section|help"
+      ParameterFile prm;
 
       void enter(const std::string &name, const std::string &help = "")
       {
-        prm.enter_subsection(name);
-        path.push_back(name);
-        if (!help.empty())
-          section_help.push_back(current_section() + "|" + help);
+        prm.enter_subsection(name, help);
       }
-      void leave()
-      {
-        prm.leave_subsection();
-        path.pop_back();
-      }
+      void leave() { prm.leave_subsection(); }
 
       // Binds `value` to `key` with its documented default; every scene entry needs a help
       // text (ParameterFile::add refuses an empty one).
@@ -88,30 +70,9 @@ namespace hertzgear
       void add(const std::string &key, T &value, const typename Default<T>::type &default_value,
                const Patterns::Pattern &pattern, const std::string &help)
       {
-        value             = default_value;
-        const auto &entry = prm.add(key, value, pattern, help);
-        entries.push_back(
-          {current_section(), key, entry.default_text(), pattern.description(), help});
+        value = default_value;
+        prm.add(key, value, pattern, help);
       }
-
-      std::string current_section() const
-      {
-        std::string s;
-        for (const auto &p : path)
-          s += (s.empty() ? "" : "/") + p;
-        return s;
-      }
-
-      const EntryInfo *find(const std::string &section, const std::string &key) const
-      {
-        for (const auto &e : entries)
-          if (e.section == section && e.key == key)
-            return &e;
-        return nullptr;
-      }
-
-    private:
-      std::vector<std::string> path;
     };
 
     // Declaration of one gear's geometry, with the defaults of the paper's pinion or gear.
@@ -575,14 +536,14 @@ namespace hertzgear
       };
       const std::string section = trim(path.substr(0, slash));
       const std::string key     = trim(path.substr(slash + 1));
-      const EntryInfo  *entry   = schema.find(section, key);
+      const auto       *entry   = schema.prm.find(section, key);
       HG_REQUIRE_INPUT(entry != nullptr, "--set \"", text, "\": unknown key \"", shown(key),
                        "\" in section \"", shown(section), "\" (see `hertzgear defaults`)");
       const std::string value = trim(full_text.substr(eq + 1));
 
-      HG_REQUIRE_INPUT(schema.prm.find(section, key)->pattern().match(value), "--set \"", text,
-                       "\": value \"", shown(value), "\" for ", section, "/", key,
-                       " is not allowed; allowed: ", entry->allowed);
+      HG_REQUIRE_INPUT(entry->pattern().match(value), "--set \"", text, "\": value \"",
+                       shown(value), "\" for ", section, "/", key,
+                       " is not allowed; allowed: ", entry->pattern().description());
       try
         {
           schema.prm.set(section, key, value);
@@ -707,32 +668,7 @@ namespace hertzgear
           {
             if (ext == ".json")
               {
-                nlohmann::json tree;
-                try
-                  {
-                    // A key twice in one object would silently keep the last: refused, naming it.
-                    std::vector<std::set<std::string>> keys;
-                    const auto no_duplicates = [&](const int, const nlohmann::json::parse_event_t event,
-                                                   nlohmann::json &parsed) {
-                      using event_t = nlohmann::json::parse_event_t;
-                      if (event == event_t::object_start)
-                        keys.emplace_back();
-                      else if (event == event_t::object_end && !keys.empty())
-                        keys.pop_back();
-                      else if (event == event_t::key && !keys.empty() &&
-                               !keys.back().insert(parsed.get<std::string>()).second)
-                        throw InputError(msg("scene file ", file.string(), ": the key \"",
-                                             parsed.get<std::string>(),
-                                             "\" appears twice in one object (which one is meant?)"));
-                      return true;
-                    };
-                    std::ifstream in(file);
-                    tree = nlohmann::json::parse(in, no_duplicates);
-                  }
-                catch (const nlohmann::json::exception &e)
-                  {
-                    throw InputError(msg("scene file ", file.string(), ": invalid JSON: ", e.what()));
-                  }
+                const nlohmann::json tree = read_json_file(file, "scene file");
                 HG_REQUIRE_INPUT(tree.is_object(), "scene file ", file.string(),
                                  ": a JSON scene must be an object of sections");
                 schema.prm.parse_json(tree, file.string() + " (as .prm)");
@@ -794,36 +730,22 @@ namespace hertzgear
           "lines, `#` comments; or the same tree as `.json`). Every value can be overridden on the command line with "
           "`--set \"Section/Subsection/key=value\"`. Units are in the key names; counts and "
           "dimensionless coefficients say so in their meaning.\n";
-    std::string last_section;
-    for (const auto &e : schema.entries)
-      {
-        if (e.section != last_section)
-          {
-            md << "\n## " << e.section << "\n\n";
-            for (const auto &h : schema.section_help)
-              if (h.substr(0, h.find('|')) == e.section)
-                md << h.substr(h.find('|') + 1) << "\n\n";
-            md << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
-            last_section = e.section;
-          }
-        auto escape = [](std::string s) {
-          std::string r;
-          for (char c : s)
-            r += (c == '|') ? std::string("\\|") : std::string(1, c);
-          return r;
-        };
-        md << "| `" << e.key << "` | `" << escape(e.default_value) << "` | " << escape(e.allowed)
-           << " | " << escape(e.help) << " |\n";
-      }
+    md << schema.prm.markdown();
     return md.str();
   }
 
-  std::string scene_values_for(const Scene &scene, const std::vector<std::string> &prefixes)
+  std::string scene_values_for(const Scene &scene, const std::vector<std::string> &prefixes,
+                               const std::vector<std::string> &drop)
   {
+    const auto starts_with = [](const std::string &path, const std::string &prefix) {
+      return path.rfind(prefix, 0) == 0;
+    };
     std::vector<std::string> lines;
     for (const auto &[path, value] : parameter_values(scene.used_parameters_prm))
       for (const auto &prefix : prefixes)
-        if (path.rfind(prefix, 0) == 0)
+        if (starts_with(path, prefix) &&
+            std::none_of(drop.begin(), drop.end(),
+                         [&](const std::string &d) { return starts_with(path, d); }))
           {
             lines.push_back(path + " = " + value);
             break;

@@ -327,7 +327,7 @@ namespace hertzgear
 
   ParameterFile::~ParameterFile() = default;
 
-  void ParameterFile::enter_subsection(const std::string &name)
+  void ParameterFile::enter_subsection(const std::string &name, const std::string &help)
   {
     if (name.empty() || name != trim(name) || name.find('/') != std::string::npos ||
         name.find('#') != std::string::npos)
@@ -342,6 +342,8 @@ namespace hertzgear
         sub->parent = current;
       }
     path.push_back(sub);
+    if (!help.empty())
+      section_help.emplace_back(sub->path(), help);
   }
 
   void ParameterFile::leave_subsection()
@@ -379,6 +381,7 @@ namespace hertzgear
     entry->allowed       = pattern.clone();
     entry->assign        = std::move(assign_value);
     current->entries.push_back(std::move(entry));
+    declared.push_back(current->entries.back().get());
     return *current->entries.back();
   }
 
@@ -711,6 +714,33 @@ namespace hertzgear
       return out;
     }
   } // namespace
+
+  std::string ParameterFile::markdown() const
+  {
+    const auto escape = [](const std::string &text) {
+      std::string r;
+      for (const char c : text)
+        r += (c == '|') ? std::string("\\|") : std::string(1, c);
+      return r;
+    };
+    std::ostringstream md;
+    std::string        last_section;
+    for (const Entry *e : declared)
+      {
+        if (e->section() != last_section)
+          {
+            md << "\n## " << e->section() << "\n\n";
+            for (const auto &[section, help] : section_help)
+              if (section == e->section())
+                md << help << "\n\n";
+            md << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
+            last_section = e->section();
+          }
+        md << "| `" << e->key() << "` | `" << escape(e->default_text()) << "` | "
+           << escape(e->pattern().description()) << " | " << escape(e->help()) << " |\n";
+      }
+    return md.str();
+  }
 
   std::string ParameterFile::print(const Style style, const Order order) const
   {

@@ -181,7 +181,8 @@ namespace hertzgear
     // (which must outlive this object) and takes its current value as the default; a default the
     // pattern refuses, an empty help text or a key declared twice is a programming error
     // (std::logic_error).
-    void         enter_subsection(const std::string &name);
+    // A subsection's help text, when given, documents it in markdown().
+    void         enter_subsection(const std::string &name, const std::string &help = "");
     void         leave_subsection();
     const Entry &add(const std::string &key, int &value, const patterns::Pattern &pattern,
                      const std::string &help);
@@ -211,6 +212,10 @@ namespace hertzgear
     void set(const std::string &section, const std::string &key, const std::string &value);
 
     std::string print(Style style, Order order = Order::declaration) const;
+    // The reference of every entry as Markdown, in declaration order: a "## Section/Sub" heading
+    // with the subsection's help texts wherever the section changes, then a table of key,
+    // default, allowed values and meaning ('|' escaped).
+    std::string markdown() const;
 
   private:
     struct Section;
@@ -223,6 +228,8 @@ namespace hertzgear
 
     std::unique_ptr<Section> root;
     std::vector<Section *>   path; // declaration: the open subsections
+    std::vector<const Entry *> declared; // every entry, in declaration order
+    std::vector<std::pair<std::string, std::string>> section_help; // (section path, help)
   };
 
   // ("Section/Sub/key", value) of every `set` line of .prm text, in order (the used parameters of a

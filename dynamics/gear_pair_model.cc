@@ -96,6 +96,14 @@ namespace hertzgear::dynamics
     return 1.0 / (1.0 / k + 1.0 / kh_tangent);
   }
 
+  double damping_of_ratio(const GearPairParameters &p, const double zeta)
+  {
+    return 2.0 * zeta *
+           std::sqrt(equivalent_mesh_stiffness(p.stiffness, p.effects.hertzian_layer,
+                                               p.static_force_N) *
+                     p.equivalent_mass_kg);
+  }
+
   GearPairModel::GearPairModel(GearPairParameters parameters) : prm(std::move(parameters))
   {
     prm.stiffness.check();
