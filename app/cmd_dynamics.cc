@@ -11,129 +11,34 @@
 #include "app/command.h"
 #include "app/dynamics_setup.h"
 #include "app/run_directory.h"
+#include "app/scene_keys.h"
 #include "common/errors.h"
 #include "common/processes.h"
 #include "common/progress.h"
+#include "dynamics/result_writer.h"
 #include "dynamics/sweep.h"
 
 #include <algorithm>
 #include <chrono>
 #include <iostream>
-#include <sstream>
 
 namespace hertzgear
 {
   using namespace dynamics;
 
-  nlohmann::json summary_json(const DynamicsSetup &setup, const GearPairModel &model,
-                              const SimulationResult &result, const SteadyStateSummary &s)
-  {
-    nlohmann::json j;
-    j["rms_dte_um"]                 = 1e6 * s.rms_dte_m;
-    j["rms_dte_fluctuation_um"]     = 1e6 * s.rms_dte_fluctuation_m;
-    j["mean_dte_um"]                = 1e6 * s.mean_dte_m;
-    j["min_dte_um"]                 = 1e6 * s.min_dte_m;
-    j["max_dte_um"]                 = 1e6 * s.max_dte_m;
-    j["mean_mesh_force_N"]          = s.mean_force_N;
-    j["static_force_N"]             = s.static_force_N;
-    j["max_mesh_force_N"]           = s.max_force_N;
-    j["min_mesh_force_N"]           = s.min_force_N;
-    j["dynamic_factor"]             = s.dynamic_factor;
-    j["contact_loss_fraction"]      = s.contact_loss_fraction;
-    j["contact_losses_per_period"]  = s.contact_losses_per_period;
-    j["backside_impacts"]           = s.backside_impacts;
-    j["period_multiplicity"]        = s.period_multiplicity;
-    // How the period was decided (dynamics/analysis.h, detect_period): "period-k", "not settled"
-    // (with the nearest period, the contraction per mesh period and the distance from it relative
-    // to the DTE scale, all estimated from the Poincare section) or "aperiodic".
-    j["period_status"]              = s.period_status;
-    j["period_candidate"]           = s.period_candidate;
-    j["period_contraction_per_period"] = s.period_contraction;
-    j["period_distance_relative"]   = s.period_distance;
-    j["max_penetration_um"]         = 1e6 * s.max_penetration_m;
-    // "dense output": the extremes above (DTE, mesh force, penetration, dynamic factor) are
-    // maxima of the integrator's interpolant inside every step; "samples": of the samples only.
-    j["extremes_from"]              = s.extremes_from;
-    j["impacts"]                    = s.n_impacts;
-    // The mean of the loop integrals of F d(delta) over the impacts: the contact damping's
-    // dissipation when k_h is constant under load, else with the stiffness variation's work.
-    j["mean_loop_work_per_impact_J"] = s.mean_loop_work_per_impact_J;
-    j["state_dimension"]            = model.n_states();
-    j["effects"]                    = model.parameters().effects.describe();
-    j["equivalent_mass_kg"]         = model.parameters().equivalent_mass_kg;
-    j["steady_periods"]             = result.steady_periods;
-    j["mesh_period_s"]              = result.mesh_period_s;
-    j["model"]                      = setup.describe();
-    j["integrator"]                 = nlohmann::json(result.stats);
-    j["wall_time_s"]                = result.stats.wall_time_s;
-    return j;
-  }
-
   namespace
   {
-    std::string csv_number(const double v)
-    {
-      std::ostringstream os;
-      os.precision(12);
-      os << v;
-      return os.str();
-    }
-
     void write_dynamics_artifacts(const RunDirectory &dir, const Scene &scene,
                                   const SimulationResult &result, const nlohmann::json &summary)
     {
-      const auto &s      = result.steady;
-      const int   S      = result.samples_per_period;
-      const int   n_last = scene.output.timeseries_periods;
-      const std::size_t first =
-        (n_last > 0 && n_last < result.steady_periods) ? s.size() - 1 - std::size_t(n_last) * S : 0;
-      dir.write_text("timeseries.csv", [&]() {
-        std::ostringstream os;
-        os << "time_s,dte_um,dte_rate_m_per_s,penetration_um,mesh_force_N,contact\n";
-        for (std::size_t i = first; i < s.size(); ++i)
-          os << csv_number(s[i].t_s) << ',' << csv_number(1e6 * s[i].dte_m) << ','
-             << csv_number(s[i].dte_rate_m_per_s) << ',' << csv_number(1e6 * s[i].penetration_m)
-             << ',' << csv_number(s[i].force_N) << ',' << s[i].contact << '\n';
-        return os.str();
-      }());
-      dir.write_text("poincare.csv", [&]() {
-        std::ostringstream os;
-        os << "period,time_s,dte_um,dte_rate_m_per_s\n";
-        for (std::size_t i = 0; i < result.poincare.size(); ++i)
-          os << i << ',' << csv_number(result.poincare[i].t_s) << ','
-             << csv_number(1e6 * result.poincare[i].dte_m) << ','
-             << csv_number(result.poincare[i].dte_rate_m_per_s) << '\n';
-        return os.str();
-      }());
-      dir.write_text("spectrum.csv", [&]() {
-        std::ostringstream os;
-        os << "frequency_Hz,mesh_order,amplitude_um\n";
-        for (const auto &l : dte_spectrum(result))
-          os << csv_number(l.frequency_Hz) << ',' << csv_number(l.mesh_order) << ','
-             << csv_number(1e6 * l.amplitude_m) << '\n';
-        return os.str();
-      }());
-      dir.write_text("force_penetration.csv", [&]() {
-        // The loops of the written time window, and the energy of every closed loop (impact).
-        std::ostringstream os;
-        os << "time_s,penetration_um,mesh_force_N,contact\n";
-        for (std::size_t i = first; i < s.size(); ++i)
-          os << csv_number(s[i].t_s) << ',' << csv_number(1e6 * s[i].penetration_m) << ','
-             << csv_number(s[i].force_N) << ',' << s[i].contact << '\n';
-        return os.str();
-      }());
-      dir.write_text("impacts.csv", [&]() {
-        std::ostringstream os;
-        os << "start_s,end_s,max_force_N,max_penetration_um,loop_work_J\n";
-        for (const auto &l : force_penetration_loops(result))
-          os << csv_number(l.start_s) << ',' << csv_number(l.end_s) << ','
-             << csv_number(l.max_force_N) << ',' << csv_number(1e6 * l.max_penetration_m) << ','
-             << csv_number(l.loop_work_J) << '\n';
-        return os.str();
-      }());
+      const int last_periods = scene.output.timeseries_periods;
+      dir.write_text("timeseries.csv", timeseries_csv(result, last_periods));
+      dir.write_text("poincare.csv", poincare_csv(result));
+      dir.write_text("spectrum.csv", spectrum_csv(result));
+      dir.write_text("force_penetration.csv", force_penetration_csv(result, last_periods));
+      dir.write_text("impacts.csv", impacts_csv(result));
       dir.write_json("summary.json", summary);
     }
-
   } // namespace
 
   nlohmann::json run_dynamics_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer)
@@ -165,7 +70,7 @@ namespace hertzgear
     nlohmann::json summary;
     {
       PhaseTimer::Scope scope(timer, "analysis");
-      summary = summary_json(setup, model, result, analyse(model, result));
+      summary = summary_json(model, result, analyse(model, result), setup.describe());
     }
     progress_line("dynamics",
                   msg("rms DTE ", summary["rms_dte_um"].get<double>(), " um, mean force ",
@@ -186,24 +91,10 @@ namespace hertzgear
   {
     int run_dynamics(const CommandContext &ctx)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
-      if (ctx.out_dir.empty())
-        {
-          std::cout << run_dynamics_stage(scene, nullptr, timer).dump(2) << std::endl;
-          timer.print_summary(progress_stream());
-        }
-      else
-        {
-          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
-          run_dynamics_stage(scene, &dir, timer);
-          dir.finish(timer, {{"stage", "dynamics"}}); // prints the timing summary
-        }
-      return 0;
+      return run_stage_command(
+        ctx, run_dynamics_stage,
+        [](const nlohmann::json &summary) { std::cout << summary.dump(2) << std::endl; },
+        [](const nlohmann::json &) { return nlohmann::json{{"stage", "dynamics"}}; });
     }
 
     // The sweep's plain inputs from Sweep/* and --threads.
@@ -222,25 +113,6 @@ namespace hertzgear
       return s;
     }
 
-    // A ParameterError of SweepSettings as an InputError about the scene key (or --threads).
-    InputError sweep_input_error(const ParameterError &e)
-    {
-      const auto key_of = [](const std::string &field) {
-        return field == "threads" ? std::string("--threads") : "Sweep/" + field;
-      };
-      std::string text = e.text();
-      for (std::size_t open = text.find('{'); open != std::string::npos; open = text.find('{', open))
-        {
-          const std::size_t close = text.find('}', open);
-          if (close == std::string::npos)
-            break;
-          const std::string key = key_of(text.substr(open + 1, close - open - 1));
-          text.replace(open, close - open + 1, key);
-          open += key.size();
-        }
-      return InputError(key_of(e.parameter()) + " = " + text);
-    }
-
     // "[sweep] rank 1: up point 3/8  2928.57 rpm  rms DTE 108.99 um  period 1  (0.4 s)"
     void sweep_progress_line(const SweepPointDone &p)
     {
@@ -249,34 +121,6 @@ namespace hertzgear
                                  "  ", p.row.speed_rpm, " rpm  rms DTE ",
                                  1e6 * p.row.summary.rms_dte_m, " um  period ",
                                  p.row.summary.period_multiplicity, "  (", p.elapsed_s, " s)"));
-    }
-
-    std::string sweep_csv_text(const std::vector<SweepRow> &rows)
-    {
-      std::ostringstream os;
-      os << "speed_rpm,direction,rms_dte_um,min_dte_um,max_dte_um,dynamic_factor,"
-            "contact_loss_fraction,period_multiplicity,extremes_from\n";
-      for (const auto &r : rows)
-        os << csv_number(r.speed_rpm) << ',' << sweep_branch_name(r.branch) << ','
-           << csv_number(1e6 * r.summary.rms_dte_m) << ','
-           << csv_number(1e6 * r.summary.min_dte_m) << ','
-           << csv_number(1e6 * r.summary.max_dte_m) << ','
-           << csv_number(r.summary.dynamic_factor) << ','
-           << csv_number(r.summary.contact_loss_fraction) << ','
-           << r.summary.period_multiplicity << ',' << r.summary.extremes_from << '\n';
-      return os.str();
-    }
-
-    // The Poincare points of the independent runs when there are any, else those of the chains.
-    std::string bifurcation_csv_text(const std::vector<SweepRow> &rows, const bool independent)
-    {
-      std::ostringstream os;
-      os << "speed_rpm,poincare_dte_um\n";
-      for (const auto &r : rows)
-        if (independent == (r.branch == SweepBranch::independent))
-          for (const double x : r.poincare_dte_m)
-            os << csv_number(r.speed_rpm) << ',' << csv_number(1e6 * x) << '\n';
-      return os.str();
     }
   } // namespace
 
@@ -296,7 +140,10 @@ namespace hertzgear
       }
     catch (const ParameterError &e)
       {
-        throw sweep_input_error(e);
+        // The field as its scene key, or --threads.
+        throw InputError(keyed_message(e, [](const std::string &field) {
+          return field == "threads" ? std::string("--threads") : "Sweep/" + field;
+        }));
       }
     const DynamicsSetup setup = make_dynamics_setup(scene);
     const SweepModel    model{setup.parameters, setup.speed_rpm, setup.run, initial_state(scene)};
@@ -305,42 +152,37 @@ namespace hertzgear
       PhaseTimer::Scope scope(timer, "integrate");
       result = dynamics::sweep(model, settings, sweep_progress_line);
     }
-    const std::string sweep_csv = sweep_csv_text(result.rows);
+    const std::string csv = sweep_csv(result.rows);
     if (dir)
       {
         PhaseTimer::Scope scope(timer, "write");
-        dir->write_text("sweep.csv", sweep_csv);
+        dir->write_text("sweep.csv", csv);
         dir->write_text("bifurcation.csv",
-                        bifurcation_csv_text(result.rows, settings.mode != SweepMode::continuation));
+                        bifurcation_csv(result.rows, settings.mode != SweepMode::continuation));
       }
-    return {sweep_csv, nlohmann::json(result.stats)};
+    return {csv, nlohmann::json(result.stats)};
   }
 
   namespace
   {
     int run_sweep(const CommandContext &ctx, const int n_threads_requested)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
+      const auto stage = [n_threads_requested](const Scene &scene, const RunDirectory *dir,
+                                               PhaseTimer &timer) {
+        return run_sweep_stage(scene, dir, timer, n_threads_requested);
+      };
       // Under mpirun only rank 0 writes; the other ranks compute their share of the points.
       if (!processes::is_root())
-        run_sweep_stage(scene, nullptr, timer, n_threads_requested);
-      else if (ctx.out_dir.empty())
         {
-          std::cout << run_sweep_stage(scene, nullptr, timer, n_threads_requested).sweep_csv;
-          timer.print_summary(progress_stream());
+          PhaseTimer timer;
+          stage(load_scene(ctx, timer), nullptr, timer);
+          return 0;
         }
-      else
-        {
-          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
-          const auto out = run_sweep_stage(scene, &dir, timer, n_threads_requested);
-          dir.finish(timer, {{"stage", "sweep"}, {"integrator", out.integrator}});
-        }
-      return 0;
+      return run_stage_command(
+        ctx, stage, [](const SweepStageOutput &out) { std::cout << out.sweep_csv; },
+        [](const SweepStageOutput &out) {
+          return nlohmann::json{{"stage", "sweep"}, {"integrator", out.integrator}};
+        });
     }
   } // namespace
 

@@ -12,9 +12,28 @@
 
 namespace hertzgear
 {
-  nlohmann::json summary_json(const DynamicsSetup &setup, const dynamics::GearPairModel &model,
-                              const dynamics::SimulationResult &result,
-                              const dynamics::SteadyStateSummary &summary);
+  // A command that runs one stage on its scene: with --out, `stage(scene, &dir, timer)` writes
+  // into the run directory, finished with the timing and `record(output)`; without, the output
+  // of `stage(scene, nullptr, timer)` goes to `print` and the timing summary to stderr.
+  template <typename Stage, typename Print, typename Record>
+  int run_stage_command(const CommandContext &ctx, const Stage &stage, const Print &print,
+                        const Record &record)
+  {
+    PhaseTimer  timer;
+    const Scene scene = load_scene(ctx, timer);
+    if (ctx.out_dir.empty())
+      {
+        print(stage(scene, nullptr, timer));
+        timer.print_summary(progress_stream());
+      }
+    else
+      {
+        RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
+        dir.finish(timer, record(stage(scene, &dir, timer))); // prints the timing summary
+      }
+    return 0;
+  }
+
   // The options of `hertzgear accuracy dynamics`: which integrators, and how far the ladder of
   // tolerances goes.
   struct AccuracyDynamicsOptions

@@ -8,14 +8,11 @@
 #include "app/scripts.h"
 #include "common/errors.h"
 #include "common/progress.h"
+#include "dynamics/result_writer.h"
 #include "dynamics/work_precision.h"
 
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <limits>
-#include <sstream>
 
 namespace hertzgear
 {
@@ -23,14 +20,6 @@ namespace hertzgear
 
   namespace
   {
-    std::string csv_text(const std::string &s)
-    {
-      std::string t = "\"";
-      for (const char ch : s)
-        t += (ch == '"') ? std::string("\"\"") : std::string(1, ch);
-      return t + "\"";
-    }
-
     std::string case_text(const WorkPrecisionCase &c)
     {
       return (c.stages > 0 ? msg("s=", c.stages, " ") : std::string()) +
@@ -40,12 +29,8 @@ namespace hertzgear
 
   int run_accuracy_dynamics(const CommandContext &ctx, const AccuracyDynamicsOptions &options)
   {
-    PhaseTimer timer;
-    Scene      scene;
-    {
-      PhaseTimer::Scope scope(timer, "scene");
-      scene = load_scene(ctx.scene_file, ctx.overrides);
-    }
+    PhaseTimer          timer;
+    const Scene         scene = load_scene(ctx, timer);
     const DynamicsSetup setup = make_dynamics_setup(scene);
     WorkPrecisionStudy  study;
     {
@@ -71,37 +56,17 @@ namespace hertzgear
                                   "Poincare ", 1e6 * study.check_poincare_max_difference_m,
                                   " um, max force ", study.check_max_force_relative_difference,
                                   " relative"));
-    std::ostringstream csv;
-    csv << "integrator,stages,relative_tolerance,steps_per_period,wall_time_s,rhs_evals,steps,"
-           "rms_dte_um,rms_dte_relative_error,poincare_max_error_um,poincare_relative_error,"
-           "max_force_relative_error,status\n";
-    csv.precision(6);
-    for (const auto &p : study.points)
-      csv << integrator_name(p.case_.kind) << ',' << (p.case_.stages > 0 ? msg(p.case_.stages) : "")
-          << ',' << (p.case_.rtol > 0 ? msg(p.case_.rtol) : "")
-          << ',' << (p.case_.steps_per_period > 0 ? msg(p.case_.steps_per_period) : "") << ','
-          << p.stats.wall_time_s << ',' << p.stats.rhs_evals << ',' << p.stats.steps << ','
-          << 1e6 * p.rms_dte_m << ',' << p.rms_relative_error << ',' << 1e6 * p.poincare_max_error_m
-          << ',' << p.poincare_relative_error << ',' << p.max_force_relative_error << ','
-          << csv_text(p.status) << '\n';
+    const std::string csv = work_precision_csv(study);
     if (ctx.out_dir.empty())
-      std::cout << csv.str();
+      std::cout << csv;
     else
       {
         PhaseTimer::Scope scope(timer, "write");
         RunDirectory      dir(ctx.out_dir, scene, ctx.command_line);
-        dir.write_text("accuracy_dynamics.csv", csv.str());
-        dir.finish(timer, {{"stage", "accuracy dynamics"},
-                           {"reference_name", study.reference_name},
-                           {"reference", nlohmann::json(study.reference_stats)},
-                           {"reference_rms_dte_um", 1e6 * study.reference_summary.rms_dte_m},
-                           {"reference_max_force_N", study.reference_summary.max_force_N},
-                           {"reference_check_rms_relative_difference",
-                            study.check_rms_relative_difference},
-                           {"reference_check_poincare_max_difference_um",
-                            1e6 * study.check_poincare_max_difference_m},
-                           {"reference_check_max_force_relative_difference",
-                            study.check_max_force_relative_difference}});
+        dir.write_text("accuracy_dynamics.csv", csv);
+        nlohmann::json record = work_precision_reference_json(study);
+        record["stage"]       = "accuracy dynamics";
+        dir.finish(timer, record);
         draw_figure("plot_accuracy_dynamics.py", {(dir.path() / "accuracy_dynamics.csv").string(),
                                                   (dir.path() / "accuracy_dynamics.png").string()});
       }

@@ -9,6 +9,7 @@
 #include "app/command.h"
 #include "app/run_directory.h"
 #include "app/scripts.h"
+#include "common/child_process.h"
 #include "common/errors.h"
 
 #include <unistd.h>

@@ -14,10 +14,10 @@
 #include "common/errors.h"
 #include "common/progress.h"
 #include "dynamics/continuation.h"
+#include "dynamics/result_writer.h"
 
 #include <chrono>
 #include <iostream>
-#include <sstream>
 
 namespace hertzgear
 {
@@ -25,23 +25,6 @@ namespace hertzgear
 
   namespace
   {
-    std::string number(const double v)
-    {
-      std::ostringstream os;
-      os.precision(12);
-      os << v;
-      return os.str();
-    }
-
-    std::string multipliers_text(const std::vector<std::complex<double>> &mu)
-    {
-      std::ostringstream os;
-      os.precision(9);
-      for (std::size_t i = 0; i < mu.size(); ++i)
-        os << (i ? ";" : "") << mu[i].real() << (mu[i].imag() < 0 ? "" : "+") << mu[i].imag() << 'i';
-      return os.str();
-    }
-
     ContinuationSettings continuation_settings(const Scene &scene, const DynamicsSetup &setup,
                                                const ResponseFamily &family)
     {
@@ -73,66 +56,6 @@ namespace hertzgear
       s.follow_period_doubling     = r.period_doubling_branches > 0;
       s.max_branches               = 1 + r.period_doubling_branches;
       return s;
-    }
-
-    std::string response_csv_text(const ResponseFamily &family, const ContinuationResult &result)
-    {
-      std::ostringstream os;
-      os << family.column
-         << ",branch,period_multiple,stable,bifurcation,rms_dte_um,min_dte_um,max_dte_um,"
-            "dynamic_factor,contact_loss_fraction,max_penetration_um,max_multiplier_modulus,"
-            "multipliers,events_per_period,arclength,method\n";
-      for (const auto &b : result.branches)
-        for (const auto &p : b.points)
-          {
-            const auto &s = p.summary;
-            os << number(p.lambda) << ',' << p.branch << ',' << p.period_multiple << ','
-               << (p.stable ? 1 : 0) << ',' << bifurcation_name(p.bifurcation) << ','
-               << number(1e6 * s.rms_dte_m) << ',' << number(1e6 * s.min_dte_m) << ','
-               << number(1e6 * s.max_dte_m) << ',' << number(s.dynamic_factor) << ','
-               << number(s.contact_loss_fraction) << ',' << number(1e6 * s.max_penetration_m)
-               << ',' << number(std::abs(p.multipliers.front())) << ','
-               << multipliers_text(p.multipliers) << ',' << p.events_per_period << ','
-               << number(p.arclength) << ",shooting\n";
-          }
-      return os.str();
-    }
-
-    nlohmann::json response_json(const ResponseFamily &family, const ContinuationResult &result,
-                                 const double wall_s)
-    {
-      nlohmann::json j;
-      j["parameter"]     = family.column;
-      j["scene_key"]     = family.key;
-      j["range"]         = {family.min, family.max};
-      j["orbits_solved"] = result.orbits_solved;
-      j["integrator"]    = nlohmann::json(result.stats);
-      j["wall_time_s"]   = wall_s;
-      j["branches"]      = nlohmann::json::array();
-      j["bifurcations"]  = nlohmann::json::array();
-      for (const auto &b : result.branches)
-        {
-          int stable = 0;
-          for (const auto &p : b.points)
-            stable += p.stable ? 1 : 0;
-          j["branches"].push_back({{"id", b.id},
-                                   {"period_multiple", b.period_multiple},
-                                   {"parent", b.parent},
-                                   {"start", b.start_lambda},
-                                   {"points", b.points.size()},
-                                   {"stable_points", stable},
-                                   {"end_reason", b.end_reason},
-                                   {"ended_in_failure", b.ended_in_failure}});
-          for (const auto &p : b.points)
-            if (p.bifurcation != Bifurcation::none)
-              j["bifurcations"].push_back({{"type", bifurcation_name(p.bifurcation)},
-                                           {family.column, p.lambda},
-                                           {"branch", p.branch},
-                                           {"period_multiple", p.period_multiple},
-                                           {"rms_dte_um", 1e6 * p.summary.rms_dte_m},
-                                           {"multipliers", multipliers_text(p.multipliers)}});
-        }
-      return j;
     }
 
     // "[response] branch 0 (period 1) point 12  15143.6 rpm  rms DTE 91.65 um  stable
@@ -200,11 +123,13 @@ namespace hertzgear
                                       " (period ", b.period_multiple, ", ", b.points.size(),
                                       " orbits) ends: ", b.end_reason));
       }
-    const auto json = response_json(family, result, elapsed());
+    auto json         = response_json(result, family.column, elapsed());
+    json["scene_key"] = family.key;
+    json["range"]     = {family.min, family.max};
     progress_line("response", msg(n_points, " orbits on ", result.branches.size(), " branches, ",
                                   json["bifurcations"].size(), " bifurcations, ",
                                   result.orbits_solved, " Newton iterations, ", elapsed(), " s"));
-    ResponseStageOutput out{response_csv_text(family, result), json};
+    ResponseStageOutput out{response_csv(result, family.column), json};
     if (dir)
       {
         PhaseTimer::Scope scope(timer, "write");
@@ -218,24 +143,13 @@ namespace hertzgear
   {
     int run_response(const CommandContext &ctx)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
-      if (ctx.out_dir.empty())
-        {
-          std::cout << run_response_stage(scene, nullptr, timer, false).csv;
-          timer.print_summary(progress_stream());
-        }
-      else
-        {
-          RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
-          run_response_stage(scene, &dir, timer, false);
-          dir.finish(timer, {{"stage", "response"}});
-        }
-      return 0;
+      return run_stage_command(
+        ctx,
+        [](const Scene &scene, const RunDirectory *dir, PhaseTimer &timer) {
+          return run_response_stage(scene, dir, timer, false);
+        },
+        [](const ResponseStageOutput &out) { std::cout << out.csv; },
+        [](const ResponseStageOutput &) { return nlohmann::json{{"stage", "response"}}; });
     }
   } // namespace
 

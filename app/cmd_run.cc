@@ -9,11 +9,11 @@
 // from the tables shipped in data/stiffness/ (data/scenes/paper_*_table.prm).
 #include "app/command.h"
 #include "app/pipeline.h"
+#include "app/scripts.h"
 #include "common/errors.h"
 #include "common/progress.h"
 
 #include <chrono>
-#include <cstdlib>
 #include <iostream>
 
 namespace hertzgear
@@ -22,25 +22,11 @@ namespace hertzgear
 
   namespace
   {
-#ifndef HERTZGEAR_INSTALL_DATADIR
-#define HERTZGEAR_INSTALL_DATADIR "share"
-#endif
-
     // The bundled data: $HERTZGEAR_DATA_DIR, the install prefix of this executable
     // (<prefix>/bin/hertzgear -> <prefix>/share/hertzgear/), then the source tree.
     fs::path data_dir()
     {
-      std::vector<fs::path> candidates;
-      if (const char *env = std::getenv("HERTZGEAR_DATA_DIR"); env && *env)
-        candidates.emplace_back(env);
-      std::error_code ec;
-      if (const fs::path exe = fs::read_symlink("/proc/self/exe", ec); !ec)
-        candidates.push_back(exe.parent_path().parent_path() / HERTZGEAR_INSTALL_DATADIR /
-                             "hertzgear");
-#ifdef HERTZGEAR_SOURCE_DIR
-      candidates.push_back(fs::path(HERTZGEAR_SOURCE_DIR) / "data");
-#endif
-      for (const auto &c : candidates)
+      for (const auto &c : bundled_locations("HERTZGEAR_DATA_DIR", "", "data"))
         if (fs::is_regular_file(c / "scenes" / "paper_crowned_table.prm"))
           return c;
       throw std::runtime_error("cannot find the bundled scenes (data/scenes/paper_*_table.prm); "

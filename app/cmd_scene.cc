@@ -12,12 +12,8 @@ namespace hertzgear
   {
     int run_check(const CommandContext &ctx)
     {
-      PhaseTimer timer;
-      Scene      scene;
-      {
-        PhaseTimer::Scope scope(timer, "scene");
-        scene = load_scene(ctx.scene_file, ctx.overrides);
-      }
+      PhaseTimer  timer;
+      const Scene scene = load_scene(ctx, timer);
       {
         // Exactly what `run` checks before it makes a folder: impossible geometry (undercut,
         // pointed tip, interference, eps_alpha < 1, jamming centre distance, ...), the stiffness

@@ -69,68 +69,6 @@ namespace hertzgear
       return factors;
     }
 
-    // accuracy_stiffness.json: the rungs, the extrapolations and the verdict on the scene's level.
-    nlohmann::json summary_json(const stiffness::FeAccuracyStudy &study, const Scene &base)
-    {
-      nlohmann::json j;
-      j["reference_depth_mm"] = study.reference_depth_mm;
-      for (const auto &[name, x] : study.fe_extrapolation)
-        for (const auto &[ladder, e] : {std::pair{"fe_level", x},
-                                        std::pair{"contact_grid", study.grid_extrapolation.at(name)}})
-          j["extrapolation"][ladder][name] = {{"value", e.value},
-                                              {"observed_order", e.order},
-                                              {"asymptotic", e.asymptotic},
-                                              {"note", e.note}};
-      j["rows"] = nlohmann::json::array();
-      for (const auto *ladder : {&study.fe_rungs, &study.grid_rungs})
-        for (const auto &g : *ladder)
-          j["rows"].push_back({{"study", g.study},
-                               {"fe_level", g.level},
-                               {"fe_degree", g.degree},
-                               {"contact_profile_cells", g.profile_cells},
-                               {"contact_face_cells", g.face_cells},
-                               {"size_mm", g.h},
-                               {"dofs", g.dofs},
-                               {"wall_time_s", g.wall_time_s},
-                               {"mean_k_total_N_per_m", g.k_total},
-                               {"ste_peak_to_peak_um", g.ste_pp_um},
-                               {"k_mh_N_per_m_pow_n", g.k_mh},
-                               {"mean_k_rest_N_per_m", g.k_rest},
-                               {"k_total_relative_error", study.relative_error(g, "mean_k_total_N_per_m")},
-                               {"ste_pp_relative_error", study.relative_error(g, "ste_peak_to_peak_um")},
-                               {"k_mh_relative_error", study.relative_error(g, "k_mh_N_per_m_pow_n")},
-                               {"k_rest_relative_error", study.relative_error(g, "mean_k_rest_N_per_m")}});
-      // The verdict on the scene's defaults: within 1 % of the extrapolated values?
-      for (const auto &g : study.fe_rungs)
-        if (g.level == base.stiffness.fe_level && !study.grid_rungs.empty())
-          {
-            const auto  &grid = study.grid_rungs.front();
-            const double ek = study.relative_error(g, "mean_k_total_N_per_m");
-            const double es = study.relative_error(g, "ste_peak_to_peak_um");
-            const double gk = study.relative_error(grid, "mean_k_total_N_per_m");
-            const double gs = study.relative_error(grid, "ste_peak_to_peak_um");
-            const bool   ok = ek <= 0.01 && es <= 0.01 && gk <= 0.01 && gs <= 0.01;
-            j["scene_default"] = {{"fe_level", g.level},
-                                  {"contact_profile_cells", g.profile_cells},
-                                  {"k_total_relative_error_fe", ek},
-                                  {"ste_pp_relative_error_fe", es},
-                                  {"k_total_relative_error_grid", gk},
-                                  {"ste_pp_relative_error_grid", gs},
-                                  {"within_1_percent", ok}};
-            progress_line("accuracy", msg("scene default (level ", g.level, ", ", g.profile_cells,
-                                          " profile cells): k_total error ", 100 * ek, " % (FE) ",
-                                          100 * gk, " % (grid), STE p-p error ", 100 * es,
-                                          " % (FE) ", 100 * gs, " % (grid): ",
-                                          ok ? "within" : "NOT within", " 1 %"));
-          }
-      for (const auto &[ladder, xs] : {std::pair{"FE", &study.fe_extrapolation},
-                                       std::pair{"grid", &study.grid_extrapolation}})
-        for (const auto &[name, x] : *xs)
-          progress_line("accuracy", msg(ladder, " ladder ", name, ": extrapolated ", x.value,
-                                        ", order ", x.order, " (", x.note, ")"));
-      return j;
-    }
-
     int run_accuracy_stiffness(const CommandContext &ctx, const std::string &levels_text,
                                const std::string &grid_factors_text)
     {
@@ -148,7 +86,8 @@ namespace hertzgear
                                  fs::path(ctx.out_dir);
       const auto study = stiffness::run_fe_accuracy_study(stiffness_input(base), levels, factors,
                                                           meshes, timer);
-      const nlohmann::json summary = summary_json(study, base);
+      const nlohmann::json summary = study.json(base.stiffness.fe_level);
+      study.report(base.stiffness.fe_level);
       if (processes::is_root())
         {
           if (ctx.out_dir.empty())

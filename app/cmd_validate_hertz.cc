@@ -9,7 +9,6 @@
 
 #include "app/meshing_setup.h"
 #include "app/stiffness_setup.h"
-#include "stiffness/fe_tca.h"
 #include "app/scripts.h"
 #include "app/scene.h"
 #include "app/validation_scene.h"
@@ -18,13 +17,10 @@
 #include "common/progress.h"
 #include "common/processes.h"
 #include "fem/hertz_validation.h"
+#include "stiffness/fe_hertz_case.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <iomanip>
-#include <limits>
 #include <sstream>
 
 namespace hertzgear
@@ -41,53 +37,18 @@ namespace hertzgear
         progress_line("validate", text);
     }
 
-    std::string percent(const double closed, const double fe)
-    {
-      std::ostringstream os;
-      os << std::showpos << std::fixed << std::setprecision(3) << 100.0 * (fe - closed) / closed
-         << " %";
-      return os.str();
-    }
-
     // The library's input of one case: the scene's values, and for the crowned flank the pair of
     // its gear scene with the TCA's contact grid and reference depth.
     fem::HertzCaseInput case_input(const ValidationScene &v, const bool coarse)
     {
-      fem::HertzCaseInput in;
-      in.name                          = v.name;
-      in.kind                          = v.kind;
-      in.load_N                        = v.load_N;
-      in.load_per_length_N_per_mm      = v.load_per_length_N_per_mm;
-      in.roller_half_length_mm         = v.roller_half_length_mm;
-      auto &f                          = in.fe;
-      f.youngs_modulus_MPa             = v.youngs_modulus_MPa;
-      f.poisson_ratio                  = v.poisson_ratio;
-      f.radius_x_mm                    = v.radius_x_mm;
-      f.radius_y_mm                    = v.radius_y_mm;
-      f.half_width_x_mm                = v.half_width_x_mm;
-      f.half_width_y_mm                = v.half_width_y_mm;
-      f.depth_mm                       = v.depth_mm;
-      f.reading_depths_mm              = v.reading_depths_mm;
-      f.initial_cells_per_semi_axis    = static_cast<unsigned int>(v.initial_cells_per_semi_axis);
-      f.n_levels                       = static_cast<unsigned int>(coarse ? v.ci_levels : v.levels);
-      f.kelly_fraction                 = v.kelly_fraction;
-      f.max_active_set_iterations      = static_cast<unsigned int>(v.max_active_set_iterations);
-      if (v.kind == "crowned-flank")
+      fem::HertzCaseInput in          = v.input;
+      in.fe.initial_cells_per_semi_axis = static_cast<unsigned int>(v.initial_cells_per_semi_axis);
+      in.fe.n_levels = static_cast<unsigned int>(coarse ? v.ci_levels : v.levels);
+      in.fe.max_active_set_iterations = static_cast<unsigned int>(v.max_active_set_iterations);
+      if (in.kind == "crowned-flank")
         {
-          const Scene scene = load_scene(v.gear_scene);
-          const auto  input = stiffness_input(scene);
-          auto       &g     = in.gear;
-          g.pair            = input.pair;
-          g.pinion_material = input.pinion_material;
-          g.gear_material   = input.gear_material;
-          g.torque_Nm       = input.torque_Nm;
-          g.grid.profile_cells  = static_cast<unsigned int>(input.fe.contact_grid_profile_cells);
-          g.grid.face_cells     = static_cast<unsigned int>(input.fe.contact_grid_face_cells);
-          g.grid.hertz_exponent = input.hertz_exponent;
-          g.grid.plane_strain   = false;
-          g.grid.max_contact_iterations = static_cast<unsigned int>(input.fe.contact_max_iterations);
-          g.reference_depth_mm = stiffness::fe_reference_depth_mm(input.fe, input.pair.pinion.module_mm);
-          g.source             = v.gear_scene.string();
+          in.gear        = stiffness::hertz_case_gear_pair(stiffness_input(load_scene(v.gear_scene)));
+          in.gear.source = v.gear_scene.string();
         }
       return in;
     }
@@ -130,43 +91,15 @@ namespace hertzgear
       for (const auto &v : scenes)
         {
           PhaseTimer::Scope scope(timer, v.name);
-          const fem::HertzCase c = fem::make_hertz_case(case_input(v, coarse));
-          if (!c.notes.empty())
-            say(v.name + ": " + c.notes);
-          say(msg(v.name, ": Hertz ", c.line ? "b " : "a_x ", c.a_x, " mm",
-                  c.line ? std::string() : msg(", a_y ", c.a_y, " mm"), ", p0 ", c.p0, " MPa; block ",
-                  c.fe.half_width_x_mm / c.a_x, " a_x wide, ", c.fe.depth_mm / c.a_x, " a_x deep"));
-          const auto report = [&](const fem::ResolvedContactLevel &l) {
-            study.add_level(v.name, c, l);
-            say(msg(v.name, " level ", l.level, ": ", l.n_dofs, " dofs, ", l.n_active,
-                    " active nodes, ", l.n_iterations, " active-set iterations, contact cell ",
-                    l.contact_cell_mm, " mm; ", c.line ? "b " : "a_x ",
-                    percent(c.a_x, l.semi_axis_x_mm),
-                    c.line ? std::string() : ", a_y " + percent(c.a_y, l.semi_axis_y_mm),
-                    ", p0 ", percent(c.p0, l.peak_pressure_MPa), "  (", l.wall_time_s, " s)"));
-          };
-          const auto levels = c.dim == 2 ? fem::solve_resolved_contact<2>(c.fe, report) :
-                                           fem::solve_resolved_contact<3>(c.fe, report);
-          study.add_profiles(v.name, c, levels.back());
+          study.run_case(case_input(v, coarse), say);
           used << "# ---- case " << v.name << " (" << v.file.string() << ")\n"
                << v.used_parameters_prm;
         }
 
       const std::string csv = study.results_csv();
       const std::string rates = study.rates_csv();
-      if (is_root())
-        {
-          // Observed rates of the quantities of the acceptance, on stderr.
-          std::istringstream in(rates);
-          std::string        line;
-          std::getline(in, line);
-          while (std::getline(in, line))
-            if (line.find(",semi_axis_x,") != std::string::npos ||
-                line.find(",semi_axis_y,") != std::string::npos ||
-                line.find(",half_width,") != std::string::npos ||
-                line.find(",peak_pressure,") != std::string::npos)
-              say("rate " + line);
-        }
+      for (const auto &line : study.acceptance_rates()) // observed rates, on stderr
+        say("rate " + line);
 
       if (is_root())
         {

@@ -1,7 +1,16 @@
 #include "app/command.h"
 
+#include "app/scene.h"
+#include "common/progress.h"
+
 namespace hertzgear
 {
+  Scene load_scene(const CommandContext &ctx, PhaseTimer &timer)
+  {
+    PhaseTimer::Scope scope(timer, "scene");
+    return load_scene(ctx.scene_file, ctx.overrides);
+  }
+
   CLI::App *CommandRegistry::add_command(const CommandSpec &spec, CommandAction action,
                                          CLI::App *parent)
   {

@@ -10,6 +10,9 @@
 
 namespace hertzgear
 {
+  class PhaseTimer;
+  struct Scene;
+
   // What every command accepts.
   struct CommandContext
   {
@@ -20,6 +23,10 @@ namespace hertzgear
   };
 
   using CommandAction = std::function<int(const CommandContext &)>;
+
+  // The scene of a command (SCENE with its --set overrides), loaded in the phase "scene" of
+  // `timer`.
+  Scene load_scene(const CommandContext &ctx, PhaseTimer &timer);
 
   struct CommandSpec
   {

@@ -4,6 +4,7 @@
 #include "app/stiffness_setup.h"
 #include "meshing/gear_geometry.h"
 #include "common/errors.h"
+#include "dynamics/parameter_families.h"
 
 #include <cmath>
 
@@ -16,16 +17,15 @@ namespace hertzgear
       return 1e-3 * meshing::base_radius_mm(gear_parameters(g, "gear"));
     }
 
-    // Solid disc between the bore and the root circle r_f, over the face width:
-    // I = rho b pi (r_f^4 - r_bore^4) / 2.
+    // The inertia of the gear body as a solid disc (meshing::disc_inertia_kg_m2).
     double disc_inertia_kg_m2(const GearScene &g, const Material &mat)
     {
-      const double r_f  = 1e-3 * meshing::root_radius_mm(gear_parameters(g, "gear"));
-      const double r_in = 1e-3 * g.bore_radius_mm;
-      HG_REQUIRE_INPUT(r_f > r_in, "root radius ", r_f * 1e3, " mm is not larger than the bore radius ",
-                       g.bore_radius_mm, " mm: give the inertias in Dynamics/*_inertia_kg_m2");
-      return mat.density_kg_per_m3 * 1e-3 * g.face_width_mm * M_PI *
-             (std::pow(r_f, 4) - std::pow(r_in, 4)) / 2.0;
+      const auto   p   = gear_parameters(g, "gear");
+      const double r_f = 1e-3 * meshing::root_radius_mm(p);
+      HG_REQUIRE_INPUT(r_f > 1e-3 * g.bore_radius_mm, "root radius ", r_f * 1e3,
+                       " mm is not larger than the bore radius ", g.bore_radius_mm,
+                       " mm: give the inertias in Dynamics/*_inertia_kg_m2");
+      return meshing::disc_inertia_kg_m2(p, mat.density_kg_per_m3);
     }
 
   } // namespace
@@ -83,10 +83,8 @@ namespace hertzgear
     p.restitution_coefficient  = d.restitution_coefficient;
     s.equivalent_stiffness_N_per_m =
       dynamics::equivalent_mesh_stiffness(p.stiffness, p.effects.hertzian_layer, p.static_force_N);
-    p.damping_N_s_per_m = d.damping_from == "ratio" ?
-                            2.0 * d.damping_ratio *
-                              std::sqrt(s.equivalent_stiffness_N_per_m * p.equivalent_mass_kg) :
-                            d.damping_coefficient_N_s_per_m;
+    p.damping_N_s_per_m = d.damping_from == "ratio" ? dynamics::damping_of_ratio(p, d.damping_ratio) :
+                                                      d.damping_coefficient_N_s_per_m;
     if (p.damping_N_s_per_m == 0.0 && p.effects.hertzian_layer == dynamics::HertzianLayer::dynamic)
       HG_REQUIRE_INPUT(d.integrator == "ida",
                        "the mesh damping c is 0, which makes the penetration equation of the "
@@ -143,43 +141,30 @@ namespace hertzgear
             {"k_hertz_mean_N_per_m_pow_n", p.stiffness.k_hertz_N_per_m_pow_n.mean},
             {"stiffness_source", p.stiffness.source}};
   }
+
   ResponseFamily response_family(const Scene &scene, const DynamicsSetup &setup)
   {
-    ResponseFamily    f;
-    const auto        base = setup.parameters;
-    const auto       &r    = scene.response;
-    const auto       &d    = scene.dynamics;
-    const double      r_b1 = setup.pinion_base_radius_m;
-    // The damping of the scene at the static force F_0 (a ratio keeps its ratio).
-    const auto damping_at = [base, &d](dynamics::GearPairParameters p, const double zeta) {
-      if (d.damping_from == "ratio")
-        p.damping_N_s_per_m =
-          2.0 * zeta *
-          std::sqrt(dynamics::equivalent_mesh_stiffness(p.stiffness, p.effects.hertzian_layer,
-                                                        p.static_force_N) *
-                    p.equivalent_mass_kg);
-      return p;
-    };
-    f.column = r.parameter;
+    ResponseFamily f;
+    const auto    &base = setup.parameters;
+    const auto    &r    = scene.response;
+    const auto    &d    = scene.dynamics;
+    f.column            = r.parameter;
     if (r.parameter == "speed_rpm")
       {
         f.key    = "Operating/speed_rpm";
         f.min    = scene.sweep.speed_min_rpm;
         f.max    = scene.sweep.speed_max_rpm;
-        f.family = {"speed_rpm", [base, rpm = setup.speed_rpm](const double lambda) {
-                      return dynamics::at_speed(base, rpm, lambda);
-                    }};
+        f.family = dynamics::speed_family(base, setup.speed_rpm);
       }
     else if (r.parameter == "torque_Nm")
       {
         f.key    = "Operating/torque_Nm";
         f.min    = r.torque_min_Nm;
         f.max    = r.torque_max_Nm;
-        f.family = {"torque_Nm", [base, r_b1, damping_at, zeta = d.damping_ratio](const double T) {
-                      auto p           = base;
-                      p.static_force_N = T / r_b1;
-                      return damping_at(p, zeta);
-                    }};
+        f.family = dynamics::torque_family(base, setup.pinion_base_radius_m,
+                                           d.damping_from == "ratio" ?
+                                             std::optional<double>(d.damping_ratio) :
+                                             std::nullopt);
       }
     else
       {
@@ -191,8 +176,7 @@ namespace hertzgear
         f.key    = "Dynamics/damping_ratio";
         f.min    = r.damping_ratio_min;
         f.max    = r.damping_ratio_max;
-        f.family = {"damping_ratio",
-                    [base, damping_at](const double zeta) { return damping_at(base, zeta); }};
+        f.family = dynamics::damping_ratio_family(base);
       }
     return f;
   }

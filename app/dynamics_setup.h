@@ -37,7 +37,7 @@ namespace hertzgear
   // The continuation parameter of Response/parameter as a family of models (speed: the mesh
   // frequency; torque: F_0 = T / r_b1 and, with Dynamics/damping_from = ratio, the damping of
   // the linearised stiffness at that load; damping ratio: c = 2 zeta sqrt(k_eq m_e)), and its
-  // range in the scene's units (rpm, N m, or none).
+  // range in the scene's units (rpm, N m, or none). The families: dynamics/parameter_families.h.
   struct ResponseFamily
   {
     dynamics::ParameterFamily family;

@@ -13,10 +13,7 @@
 #include "common/progress.h"
 
 #include <algorithm>
-#include <chrono>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 namespace hertzgear
 {
@@ -30,19 +27,6 @@ namespace hertzgear
     const std::vector<std::string> sweep_artifacts = {"sweep.csv", "bifurcation.csv"};
 
     bool stiffness_stage_needed(const Scene &scene) { return stiffness_source(scene).is_stage(); }
-
-    // "Section/key = value" lines of `prefixes`, without the lines starting with one of `drop`.
-    std::string values(const Scene &scene, const std::vector<std::string> &prefixes,
-                       const std::vector<std::string> &drop)
-    {
-      std::istringstream in(scene_values_for(scene, prefixes));
-      std::string        out;
-      for (std::string line; std::getline(in, line);)
-        if (std::none_of(drop.begin(), drop.end(),
-                         [&](const std::string &d) { return line.rfind(d, 0) == 0; }))
-          out += line + "\n";
-      return out;
-    }
 
     // Stiffness/source = table: the dynamics stage copies the table (and the stiffness.csv of
     // the same stem beside it, when there is one) into the run directory, so that the run
@@ -106,23 +90,23 @@ namespace hertzgear
             drop.push_back("Output/report");
             drop.push_back("Output/timeseries_periods");
           }
-        return values(scene, prefixes, drop);
+        return scene_values_for(scene, prefixes, drop);
       }
     // The dynamics reads the gears (base radii, inertias), the operating point, the effects, the
     // stiffness section (source, exponent, Fourier coefficients) and its own settings.
     const std::vector<std::string> dynamics = {"Gear pair", "Material", "Operating", "Effects",
                                                "Stiffness", "Dynamics", "Output"};
     if (stage == "dynamics")
-      return values(scene, dynamics, {"Output/report"});
+      return scene_values_for(scene, dynamics, {"Output/report"});
     if (stage == "sweep")
       {
         auto prefixes = dynamics;
         prefixes.push_back("Sweep");
         prefixes.push_back("Response");
-        return values(scene, prefixes, {"Output/report", "Output/timeseries_periods"});
+        return scene_values_for(scene, prefixes, {"Output/report", "Output/timeseries_periods"});
       }
     if (stage == "report")
-      return values(scene, {""}, {});
+      return scene_values_for(scene, {""}, {});
     throw std::logic_error("unknown stage " + stage);
   }
 
@@ -246,41 +230,17 @@ namespace hertzgear
 
       void run_stage(const std::string &stage)
       {
-        const StageKey key = key_of(stage);
-        StageOutcome   o;
-        o.stage                  = stage;
-        const std::string reason = options.force ? "--force" : invalid_reason(out, stage, key);
-        std::vector<std::string> artifacts;
-        const auto               start = std::chrono::steady_clock::now();
-        o.ran                          = !reason.empty();
-        if (!o.ran)
-          {
-            o.reason = "cached: key and every artifact hash match";
-            std::ifstream        in(manifest_path(out, stage));
-            const nlohmann::json manifest = nlohmann::json::parse(in);
-            for (const auto &a : manifest.at("artifacts"))
-              artifacts.push_back(a.at("path").get<std::string>());
-            record_parameters_hash(out, stage, parameters_hash); // now this run's artifacts
-            progress_line("run", stage + ": reused (" + o.reason + ")");
-          }
-        else
-          {
-            o.reason = reason;
-            progress_line("run", stage + ": runs (" + reason + ")");
-            fs::remove(manifest_path(out, stage)); // no manifest while the stage is under way
-            execute(stage);
-            artifacts = artifacts_of(stage);
-          }
-        o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (o.ran)
-          write_manifest(out, stage, key, artifacts, o.wall_time_s, // last: the stage is done
-                         parameters_hash);
-        else
-          timer.add(stage + " (cached)", o.wall_time_s);
-        for (const auto &a : artifacts)
+        const auto c = run_cached_stage(out, stage, key_of(stage), options.force ? "--force" : "",
+                                        parameters_hash, [&] {
+                                          execute(stage);
+                                          return artifacts_of(stage);
+                                        });
+        if (!c.outcome.ran)
+          timer.add(stage + " (cached)", c.outcome.wall_time_s);
+        for (const auto &a : c.artifacts)
           if (stage != "report")
             produced.emplace_back(a, file_content_hash(out / a));
-        outcomes.push_back(o);
+        outcomes.push_back(c.outcome);
       }
 
       void execute(const std::string &stage)
@@ -339,14 +299,7 @@ namespace hertzgear
         return artifacts;
       }
 
-      nlohmann::json stages_json() const
-      {
-        nlohmann::json stages = nlohmann::json::array();
-        for (const auto &o : outcomes)
-          stages.push_back(
-            {{"stage", o.stage}, {"ran", o.ran}, {"reason", o.reason}, {"wall_time_s", o.wall_time_s}});
-        return stages;
-      }
+      nlohmann::json stages_json() const { return outcomes; }
 
       void finish() const
       {

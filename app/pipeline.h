@@ -26,14 +26,6 @@
 
 namespace hertzgear
 {
-  struct StageOutcome
-  {
-    std::string stage;
-    bool        ran = false;
-    std::string reason;      // why it ran, or why its cached artifacts were reused
-    double      wall_time_s = 0;
-  };
-
   struct PipelineOptions
   {
     bool force         = false; // rerun every stage whatever the cache says

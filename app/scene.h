@@ -194,6 +194,8 @@ namespace hertzgear
   std::string scene_reference_markdown();
 
   // The subset of used parameters that one stage reads, for the artifact cache: one line per
-  // "Section/key = value", sorted, for the listed sections (prefix match).
-  std::string scene_values_for(const Scene &scene, const std::vector<std::string> &section_prefixes);
+  // "Section/key = value", sorted, for the listed sections (prefix match), without the keys that
+  // start with one of `drop`.
+  std::string scene_values_for(const Scene &scene, const std::vector<std::string> &section_prefixes,
+                               const std::vector<std::string> &drop = {});
 } // namespace hertzgear

@@ -46,27 +46,42 @@ namespace hertzgear
         {"transient_periods", "Dynamics/transient_periods"}};
       return keys;
     }
+
+    // `text` with every {field} that `key_of` names (a key not empty) replaced by its key.
+    std::string with_keys(std::string                                            text,
+                          const std::function<std::string(const std::string &)> &key_of)
+    {
+      for (std::size_t open = text.find('{'); open != std::string::npos; open = text.find('{', open + 1))
+        {
+          const std::size_t close = text.find('}', open);
+          if (close == std::string::npos)
+            break;
+          const std::string key = key_of(text.substr(open + 1, close - open - 1));
+          if (!key.empty())
+            text.replace(open, close - open + 1, key);
+        }
+      return text;
+    }
+
+    // The scene key of a field, or empty.
+    std::string scene_key(const std::string &field)
+    {
+      const auto it = scene_keys().find(field);
+      return it == scene_keys().end() ? std::string() : it->second;
+    }
   } // namespace
 
-  std::string with_scene_keys(const std::string &text)
-  {
-    std::string out = text;
-    for (std::size_t open = out.find('{'); open != std::string::npos; open = out.find('{', open + 1))
-      {
-        const std::size_t close = out.find('}', open);
-        if (close == std::string::npos)
-          break;
-        const auto it = scene_keys().find(out.substr(open + 1, close - open - 1));
-        if (it != scene_keys().end())
-          out.replace(open, close - open + 1, it->second);
-      }
-    return out;
-  }
+  std::string with_scene_keys(const std::string &text) { return with_keys(text, scene_key); }
 
   std::string scene_message(const ParameterError &error)
   {
-    const auto it = scene_keys().find(error.parameter());
-    return (it == scene_keys().end() ? error.parameter() : it->second) + " = " +
-           with_scene_keys(error.text());
+    const std::string key = scene_key(error.parameter());
+    return (key.empty() ? error.parameter() : key) + " = " + with_scene_keys(error.text());
+  }
+
+  std::string keyed_message(const ParameterError                                   &error,
+                            const std::function<std::string(const std::string &)> &key_of)
+  {
+    return key_of(error.parameter()) + " = " + with_keys(error.text(), key_of);
   }
 } // namespace hertzgear

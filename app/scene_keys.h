@@ -4,6 +4,7 @@
 // the scene keys they are filled from, so that a user reads the key to change.
 #include "common/errors.h"
 
+#include <functional>
 #include <string>
 
 namespace hertzgear
@@ -15,4 +16,8 @@ namespace hertzgear
   // The message of a ParameterError with its field (and the fields it names) as scene keys:
   // "torque_Nm = 0: ..." -> "Operating/torque_Nm = 0: ...".
   std::string scene_message(const ParameterError &error);
+
+  // The same with the keys of `key_of`, which names every field ("Sweep/" + field, ...).
+  std::string keyed_message(const ParameterError                                   &error,
+                            const std::function<std::string(const std::string &)> &key_of);
 } // namespace hertzgear

@@ -1,15 +1,11 @@
 #include "app/scripts.h"
 
+#include "common/child_process.h"
 #include "common/errors.h"
 #include "common/progress.h"
 
-#include <cerrno>
-#include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <iostream>
 #include <stdexcept>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #ifndef HERTZGEAR_INSTALL_DATADIR
@@ -20,28 +16,29 @@ namespace hertzgear
 {
   namespace fs = std::filesystem;
 
-  namespace
-  {
-    fs::path executable_path()
-    {
-      std::error_code ec;
-      const fs::path  self = fs::read_symlink("/proc/self/exe", ec);
-      return ec ? fs::path() : self;
-    }
-  } // namespace
-
-  fs::path find_script(const std::string &name, const char *env_override)
+  std::vector<fs::path> bundled_locations(const char *env_override, const fs::path &installed,
+                                          const fs::path &in_source)
   {
     std::vector<fs::path> candidates;
     if (env_override != nullptr)
       if (const char *env = std::getenv(env_override); env && *env)
         candidates.emplace_back(env);
-    if (const fs::path exe = executable_path(); !exe.empty())
-      candidates.push_back(exe.parent_path().parent_path() / HERTZGEAR_INSTALL_DATADIR /
-                           "hertzgear" / "scripts" / name);
+    std::error_code ec;
+    if (const fs::path exe = fs::read_symlink("/proc/self/exe", ec); !ec)
+      {
+        const fs::path share = exe.parent_path().parent_path() / HERTZGEAR_INSTALL_DATADIR / "hertzgear";
+        candidates.push_back(installed.empty() ? share : share / installed);
+      }
 #ifdef HERTZGEAR_SOURCE_DIR
-    candidates.push_back(fs::path(HERTZGEAR_SOURCE_DIR) / "scripts" / name);
+    candidates.push_back(fs::path(HERTZGEAR_SOURCE_DIR) / in_source);
 #endif
+    return candidates;
+  }
+
+  fs::path find_script(const std::string &name, const char *env_override)
+  {
+    const auto candidates =
+      bundled_locations(env_override, fs::path("scripts") / name, fs::path("scripts") / name);
     for (const auto &c : candidates)
       if (fs::is_regular_file(c))
         return c;
@@ -61,32 +58,6 @@ namespace hertzgear
       if (::access(p, X_OK) == 0)
         return p;
     return "python3"; // looked up on PATH by execvp
-  }
-
-  int run_process(const std::vector<std::string> &args)
-  {
-    std::vector<char *> argv;
-    for (const auto &a : args)
-      argv.push_back(const_cast<char *>(a.c_str()));
-    argv.push_back(nullptr);
-    std::cout.flush();
-    std::cerr.flush();
-    const pid_t pid = ::fork();
-    if (pid < 0)
-      throw std::runtime_error(msg("cannot start ", args[0], ": ", std::strerror(errno)));
-    if (pid == 0)
-      {
-        ::execvp(argv[0], argv.data());
-        std::fprintf(stderr, "hertzgear: error: cannot run %s: %s\n", argv[0], std::strerror(errno));
-        ::_exit(127);
-      }
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0)
-      if (errno != EINTR)
-        throw std::runtime_error(msg("waiting for ", args[0], ": ", std::strerror(errno)));
-    if (WIFEXITED(status))
-      return WEXITSTATUS(status);
-    return -1;
   }
 
   bool draw_figure(const std::string &script, const std::vector<std::string> &args)

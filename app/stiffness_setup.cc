@@ -15,16 +15,6 @@ namespace hertzgear
 
   namespace
   {
-    FourierSeries series(const double mean, const std::vector<double> &amplitudes,
-                         const std::vector<double> &phases)
-    {
-      FourierSeries s;
-      s.mean       = mean;
-      s.amplitudes = amplitudes;
-      s.phases_rad = phases.empty() ? std::vector<double>(amplitudes.size(), 0.0) : phases;
-      return s;
-    }
-
     // Renames the fields written under a temporary name into place (the old folder is gone by
     // then), so that the folder is never half there.
     void commit_fields(const fs::path &partial, const fs::path &fields_dir)
@@ -48,9 +38,10 @@ namespace hertzgear
     in.table_file              = st.table_file;
     in.unloaded_ste_from_table = scene.effects.ste_excitation == "table";
     const auto &f              = st.fourier;
-    in.k_rest_N_per_m = series(f.k_rest_mean_N_per_m, f.k_rest_amplitudes_N_per_m, f.k_rest_phases_rad);
-    in.k_hertz_N_per_m_pow_n = series(f.k_hertz_mean_N_per_m_pow_n, f.k_hertz_amplitudes_N_per_m_pow_n,
-                                      f.k_hertz_phases_rad);
+    in.k_rest_N_per_m =
+      fourier_series(f.k_rest_mean_N_per_m, f.k_rest_amplitudes_N_per_m, f.k_rest_phases_rad);
+    in.k_hertz_N_per_m_pow_n = fourier_series(
+      f.k_hertz_mean_N_per_m_pow_n, f.k_hertz_amplitudes_N_per_m_pow_n, f.k_hertz_phases_rad);
     auto &fe                      = in.fe;
     fe.dimension                  = st.fe_dimension;
     fe.level                      = st.fe_level;

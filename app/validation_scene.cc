@@ -16,7 +16,7 @@ namespace hertzgear
     void declare(ParameterFile &prm, ValidationScene &v)
     {
       prm.enter_subsection("Case");
-      prm.add("kind", v.kind,
+      prm.add("kind", v.input.kind,
               Patterns::Selection("sphere|ellipsoid|cylinder-2d|finite-cylinder|crowned-flank"),
               "Which canonical Hertz case this is: sphere (circular contact), ellipsoid "
               "(elliptical contact, radii radius_x_mm and radius_y_mm), cylinder-2d "
@@ -28,44 +28,44 @@ namespace hertzgear
       prm.leave_subsection();
 
       prm.enter_subsection("Body");
-      prm.add("youngs_modulus_MPa", v.youngs_modulus_MPa, Patterns::Double(1e-6, 1e9),
+      prm.add("youngs_modulus_MPa", v.input.fe.youngs_modulus_MPa, Patterns::Double(1e-6, 1e9),
               "Young's modulus of the one elastic body that stands for the pair against "
               "a rigid plane, in MPa: E/(1 - nu^2) is the contact modulus E* of the pair. "
               "Ignored for crowned-flank (taken from the gear scene).");
-      prm.add("poisson_ratio", v.poisson_ratio, Patterns::Double(0.0, 0.49),
+      prm.add("poisson_ratio", v.input.fe.poisson_ratio, Patterns::Double(0.0, 0.49),
               "Poisson's ratio of the equivalent body (dimensionless). Ignored for "
               "crowned-flank.");
-      prm.add("radius_x_mm", v.radius_x_mm, Patterns::Double(1e-6, 1e6),
+      prm.add("radius_x_mm", v.input.fe.radius_x_mm, Patterns::Double(1e-6, 1e6),
               "Effective radius of curvature across x in mm: the gap is "
               "x^2/(2 radius_x_mm) + y^2/(2 radius_y_mm). Ignored for crowned-flank.");
-      prm.add("radius_y_mm", v.radius_y_mm, Patterns::Double(1e-6, 1e6),
+      prm.add("radius_y_mm", v.input.fe.radius_y_mm, Patterns::Double(1e-6, 1e6),
               "Effective radius of curvature across y in mm (ellipsoid; the sphere uses "
               "radius_x_mm; line contacts have none).");
-      prm.add("load_N", v.load_N, Patterns::Double(1e-9, 1e9),
+      prm.add("load_N", v.input.load_N, Patterns::Double(1e-9, 1e9),
               "Total normal force in N (3D cases). Ignored for crowned-flank (the static "
               "mesh force of the gear scene).");
-      prm.add("load_per_length_N_per_mm", v.load_per_length_N_per_mm,
+      prm.add("load_per_length_N_per_mm", v.input.load_per_length_N_per_mm,
               Patterns::Double(1e-9, 1e9),
               "Normal force per unit length in N/mm (cylinder-2d).");
-      prm.add("half_width_x_mm", v.half_width_x_mm, Patterns::Double(1e-6, 1e6),
+      prm.add("half_width_x_mm", v.input.fe.half_width_x_mm, Patterns::Double(1e-6, 1e6),
               "Half-width of the modelled block across x in mm (the model is the "
               "symmetric half or quarter 0 <= x <= this). Must be large against the "
               "contact: the Hertz answer is that of a half-space.");
-      prm.add("half_width_y_mm", v.half_width_y_mm, Patterns::Double(1e-6, 1e6),
+      prm.add("half_width_y_mm", v.input.fe.half_width_y_mm, Patterns::Double(1e-6, 1e6),
               "Half-width of the block across y in mm (3D). For finite-cylinder with "
               "roller_half_length_mm = 0 the roller's half-length (the elastic body "
               "ends there, flat); with a rigid roller (roller_half_length_mm > 0) the "
               "half-width of the raceway under it; for crowned-flank it is taken as "
               "half the face width.");
-      prm.add("depth_mm", v.depth_mm, Patterns::Double(1e-6, 1e6),
+      prm.add("depth_mm", v.input.fe.depth_mm, Patterns::Double(1e-6, 1e6),
               "Depth of the block in mm; its far face is displaced rigidly (the "
               "approach).");
-      prm.add("roller_half_length_mm", v.roller_half_length_mm, Patterns::Double(0.0, 1e6),
+      prm.add("roller_half_length_mm", v.input.roller_half_length_mm, Patterns::Double(0.0, 1e6),
               "finite-cylinder: 0 = the elastic body itself is the roller and ends "
               "flat at half_width_y_mm (an elastic roller on a rigid plane); > 0 = a "
               "rigid roller of this half-length in mm on the wider elastic block (a "
               "roller on a wide raceway: the pressure peaks at the roller's ends).");
-      prm.add("reading_depths_mm", v.reading_depths_mm,
+      prm.add("reading_depths_mm", v.input.fe.reading_depths_mm,
               Patterns::List(Patterns::Double(1e-9, 1e6), 0, 20, ","),
               "Depths in mm below the contact centre at which the compression between "
               "the surface and that point is read (comma-separated; may be empty). For "
@@ -88,7 +88,7 @@ namespace hertzgear
               "Contact-face cells across the smaller Hertz semi-axis on the first level "
               "(count; the mesh is zoomed to it before the first solve, each further "
               "level halves the contact cells).");
-      prm.add("kelly_fraction", v.kelly_fraction, Patterns::Double(0.0, 0.5),
+      prm.add("kelly_fraction", v.input.fe.kelly_fraction, Patterns::Double(0.0, 0.5),
               "Fraction of all cells refined per level by Kelly's error estimator, on "
               "top of the contact-zone cells (dimensionless).");
       prm.add("max_active_set_iterations", v.max_active_set_iterations,
@@ -123,21 +123,18 @@ namespace hertzgear
   {
     ValidationScene  v;
     ParameterFile    prm;
-    v.kind                        = "sphere";
-    v.youngs_modulus_MPa          = 103000;
-    v.poisson_ratio               = 0.3;
-    v.radius_x_mm                 = 10;
-    v.radius_y_mm                 = 10;
-    v.load_N                      = 100;
-    v.load_per_length_N_per_mm    = 100;
-    v.half_width_x_mm             = 20;
-    v.half_width_y_mm             = 20;
-    v.depth_mm                    = 20;
-    v.levels                      = 4;
-    v.ci_levels                   = 2;
-    v.initial_cells_per_semi_axis = 2;
-    v.kelly_fraction              = 0.1;
-    v.max_active_set_iterations   = 40;
+    auto            &in = v.input;
+    in.kind             = "sphere";
+    in.load_N = in.load_per_length_N_per_mm = 100;
+    in.fe.youngs_modulus_MPa                = 103000;
+    in.fe.poisson_ratio                     = 0.3;
+    in.fe.radius_x_mm = in.fe.radius_y_mm = 10;
+    in.fe.half_width_x_mm = in.fe.half_width_y_mm = in.fe.depth_mm = 20;
+    in.fe.kelly_fraction                    = 0.1;
+    v.levels                                = 4;
+    v.ci_levels                             = 2;
+    v.initial_cells_per_semi_axis           = 2;
+    v.max_active_set_iterations             = 40;
     declare(prm, v);
 
     HG_REQUIRE_INPUT(fs::is_regular_file(file), "validation scene ", file.string(),
@@ -157,21 +154,22 @@ namespace hertzgear
       apply_override(prm, o);
 
     v.file = fs::absolute(file);
-    v.name = file.stem().string();
+    v.name = in.name = file.stem().string();
     if (!v.gear_scene_entry.empty())
       v.gear_scene = fs::path(v.gear_scene_entry).is_relative() ?
                        v.file.parent_path() / v.gear_scene_entry :
                        fs::path(v.gear_scene_entry);
 
     // Cross-field checks.
-    HG_REQUIRE_INPUT(v.kind != "crowned-flank" || !v.gear_scene_entry.empty(), file.string(),
+    HG_REQUIRE_INPUT(in.kind != "crowned-flank" || !v.gear_scene_entry.empty(), file.string(),
                      ": Gear flank/gear_scene must name the gear scene of a crowned-flank case");
-    for (const double d : v.reading_depths_mm)
-      HG_REQUIRE_INPUT(d < v.depth_mm, file.string(), ": Body/reading_depths_mm contains ", d,
-                       " mm, not inside the block of Body/depth_mm = ", v.depth_mm, " mm");
-    HG_REQUIRE_INPUT(v.roller_half_length_mm < v.half_width_y_mm, file.string(),
-                     ": Body/roller_half_length_mm = ", v.roller_half_length_mm,
-                     " must be shorter than the block, Body/half_width_y_mm = ", v.half_width_y_mm);
+    for (const double d : in.fe.reading_depths_mm)
+      HG_REQUIRE_INPUT(d < in.fe.depth_mm, file.string(), ": Body/reading_depths_mm contains ", d,
+                       " mm, not inside the block of Body/depth_mm = ", in.fe.depth_mm, " mm");
+    HG_REQUIRE_INPUT(in.roller_half_length_mm < in.fe.half_width_y_mm, file.string(),
+                     ": Body/roller_half_length_mm = ", in.roller_half_length_mm,
+                     " must be shorter than the block, Body/half_width_y_mm = ",
+                     in.fe.half_width_y_mm);
     HG_REQUIRE_INPUT(v.ci_levels <= v.levels, file.string(), ": Refinement/ci_levels = ",
                      v.ci_levels, " exceeds Refinement/levels = ", v.levels);
 

@@ -78,20 +78,16 @@ namespace hertzgear
     return os.str();
   }
 
-  // Always-on checks with a streamed message (in the spirit of MFEM_VERIFY / AssertThrow).
-#define HG_REQUIRE_INPUT(cond, ...)                                                              \
+  // Always-on checks with a streamed message (in the spirit of MFEM_VERIFY / AssertThrow): throw
+  // `error` with the message when `cond` fails.
+#define HG_REQUIRE(error, cond, ...)                                                             \
   do                                                                                             \
     {                                                                                            \
       if (!(cond))                                                                               \
-        throw ::hertzgear::InputError(::hertzgear::msg(__VA_ARGS__));                            \
+        throw error(::hertzgear::msg(__VA_ARGS__));                                              \
     }                                                                                            \
   while (false)
 
-#define HG_REQUIRE_NUMERIC(cond, ...)                                                            \
-  do                                                                                             \
-    {                                                                                            \
-      if (!(cond))                                                                               \
-        throw ::hertzgear::NumericalError(::hertzgear::msg(__VA_ARGS__));                        \
-    }                                                                                            \
-  while (false)
+#define HG_REQUIRE_INPUT(cond, ...) HG_REQUIRE(::hertzgear::InputError, cond, __VA_ARGS__)
+#define HG_REQUIRE_NUMERIC(cond, ...) HG_REQUIRE(::hertzgear::NumericalError, cond, __VA_ARGS__)
 } // namespace hertzgear

@@ -111,18 +111,26 @@ namespace hertzgear
     return j;
   }
 
+  FourierSeries fourier_series(const double mean, const std::vector<double> &amplitudes,
+                               const std::vector<double> &phases_rad)
+  {
+    FourierSeries s;
+    s.mean       = mean;
+    s.amplitudes = amplitudes;
+    s.phases_rad = phases_rad.empty() ? std::vector<double>(amplitudes.size(), 0.0) : phases_rad;
+    return s;
+  }
+
   FourierSeries fourier_series_from_json(const nlohmann::json &j, const std::string &where)
   {
     HG_REQUIRE_INPUT(j.is_object(), where, ": expected an object with mean, amplitudes, phases_rad");
     HG_REQUIRE_INPUT(j.contains("mean"), where, ": missing key 'mean'");
-    FourierSeries s;
-    s.mean = j.at("mean").get<double>();
-    if (j.contains("amplitudes"))
-      s.amplitudes = j.at("amplitudes").get<std::vector<double>>();
-    if (j.contains("phases_rad"))
-      s.phases_rad = j.at("phases_rad").get<std::vector<double>>();
-    if (s.phases_rad.empty())
-      s.phases_rad.assign(s.amplitudes.size(), 0.0);
+    const auto list = [&](const char *key) {
+      return j.contains(key) ? j.at(key).get<std::vector<double>>() : std::vector<double>();
+    };
+    const double        mean       = j.at("mean").get<double>();
+    const auto          amplitudes = list("amplitudes");
+    const FourierSeries s          = fourier_series(mean, amplitudes, list("phases_rad"));
     HG_REQUIRE_INPUT(s.phases_rad.size() == s.amplitudes.size(), where, ": ",
                      s.amplitudes.size(), " amplitudes but ", s.phases_rad.size(), " phases");
     return s;

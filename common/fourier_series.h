@@ -32,6 +32,10 @@ namespace hertzgear
     FourierSeries scaled(double factor) const;
   };
 
+  // The series of a mean, amplitudes A_j and phases phi_j; no phases stand for phases of zero.
+  FourierSeries fourier_series(double mean, const std::vector<double> &amplitudes,
+                               const std::vector<double> &phases_rad);
+
   // Least-squares fit of `n_harmonics` harmonics to samples y_k taken at phases (in cycles, any
   // order, within one period). Uniform phases make it the truncated discrete Fourier transform.
   // Throws InputError with fewer than 2H + 1 samples or phases that do not determine H harmonics.

@@ -2,10 +2,14 @@
 
 #include "common/errors.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <vector>
 
 namespace hertzgear
 {
@@ -31,5 +35,33 @@ namespace hertzgear
     ss << in.rdbuf();
     HG_REQUIRE_INPUT(!in.bad(), name, ": read error");
     return ss.str();
+  }
+
+  nlohmann::json read_json_file(const fs::path &file, const std::string &what)
+  {
+    try
+      {
+        // The keys of the objects open at this point of the parse.
+        std::vector<std::set<std::string>> keys;
+        const auto no_duplicates = [&](const int, const nlohmann::json::parse_event_t event,
+                                       nlohmann::json &parsed) {
+          using event_t = nlohmann::json::parse_event_t;
+          if (event == event_t::object_start)
+            keys.emplace_back();
+          else if (event == event_t::object_end && !keys.empty())
+            keys.pop_back();
+          else if (event == event_t::key && !keys.empty() &&
+                   !keys.back().insert(parsed.get<std::string>()).second)
+            throw InputError(msg(what, " ", file.string(), ": the key \"", parsed.get<std::string>(),
+                                 "\" appears twice in one object (which one is meant?)"));
+          return true;
+        };
+        std::ifstream in(file);
+        return nlohmann::json::parse(in, no_duplicates);
+      }
+    catch (const nlohmann::json::exception &e)
+      {
+        throw InputError(msg(what, " ", file.string(), ": invalid JSON: ", e.what()));
+      }
   }
 } // namespace hertzgear

@@ -2,6 +2,8 @@
 // Reading a file the user named (a stiffness table, a scene): only a regular file is opened, and
 // only up to a size limit, so that a FIFO, a device or a directory ends at once with a message
 // instead of hanging or reading until memory runs out.
+#include <nlohmann/json_fwd.hpp>
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -13,4 +15,9 @@ namespace hertzgear
   // cannot be read.
   std::string read_input_file(const std::filesystem::path &file, const std::string &what,
                               std::uintmax_t max_bytes);
+
+  // The JSON text of `file`, read strictly: a key twice in one object, which nlohmann would
+  // silently keep the last of, is refused naming it. Throws InputError "<what> <file>: ..." for
+  // a duplicate key or invalid JSON.
+  nlohmann::json read_json_file(const std::filesystem::path &file, const std::string &what);
 } // namespace hertzgear

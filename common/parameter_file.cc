@@ -168,18 +168,11 @@ namespace hertzgear
       return os.str();
     }
 
-    template <typename T>
-    std::unique_ptr<Pattern> Range<T>::clone() const
-    {
-      return std::make_unique<Range<T>>(*this);
-    }
-
     template class Range<int>;
     template class Range<double>;
 
     bool Bool::match(const std::string &text) const { return text == "true" || text == "false"; }
     std::string Bool::description() const { return "[Bool]"; }
-    std::unique_ptr<Pattern> Bool::clone() const { return std::make_unique<Bool>(*this); }
 
     Selection::Selection(const std::string &choices_)
       : choices(choices_)
@@ -205,11 +198,9 @@ namespace hertzgear
     }
 
     std::string Selection::description() const { return "[Selection " + choices + " ]"; }
-    std::unique_ptr<Pattern> Selection::clone() const { return std::make_unique<Selection>(*this); }
 
     bool        Anything::match(const std::string &) const { return true; }
     std::string Anything::description() const { return "[Anything]"; }
-    std::unique_ptr<Pattern> Anything::clone() const { return std::make_unique<Anything>(*this); }
 
     List::List(const Pattern &element, const unsigned int min_length_,
                const unsigned int max_length_, const std::string &separator)
@@ -244,8 +235,6 @@ namespace hertzgear
       os << "]";
       return os.str();
     }
-
-    std::unique_ptr<Pattern> List::clone() const { return std::make_unique<List>(*this); }
 
     std::vector<std::string> split_list(const std::string &text, const std::string &separator)
     {
@@ -338,7 +327,7 @@ namespace hertzgear
 
   ParameterFile::~ParameterFile() = default;
 
-  void ParameterFile::enter_subsection(const std::string &name)
+  void ParameterFile::enter_subsection(const std::string &name, const std::string &help)
   {
     if (name.empty() || name != trim(name) || name.find('/') != std::string::npos ||
         name.find('#') != std::string::npos)
@@ -353,6 +342,8 @@ namespace hertzgear
         sub->parent = current;
       }
     path.push_back(sub);
+    if (!help.empty())
+      section_help.emplace_back(sub->path(), help);
   }
 
   void ParameterFile::leave_subsection()
@@ -390,6 +381,7 @@ namespace hertzgear
     entry->allowed       = pattern.clone();
     entry->assign        = std::move(assign_value);
     current->entries.push_back(std::move(entry));
+    declared.push_back(current->entries.back().get());
     return *current->entries.back();
   }
 
@@ -722,6 +714,33 @@ namespace hertzgear
       return out;
     }
   } // namespace
+
+  std::string ParameterFile::markdown() const
+  {
+    const auto escape = [](const std::string &text) {
+      std::string r;
+      for (const char c : text)
+        r += (c == '|') ? std::string("\\|") : std::string(1, c);
+      return r;
+    };
+    std::ostringstream md;
+    std::string        last_section;
+    for (const Entry *e : declared)
+      {
+        if (e->section() != last_section)
+          {
+            md << "\n## " << e->section() << "\n\n";
+            for (const auto &[section, help] : section_help)
+              if (section == e->section())
+                md << help << "\n\n";
+            md << "| key | default | allowed | meaning |\n|---|---|---|---|\n";
+            last_section = e->section();
+          }
+        md << "| `" << e->key() << "` | `" << escape(e->default_text()) << "` | "
+           << escape(e->pattern().description()) << " | " << escape(e->help()) << " |\n";
+      }
+    return md.str();
+  }
 
   std::string ParameterFile::print(const Style style, const Order order) const
   {

@@ -45,16 +45,26 @@ namespace hertzgear
       virtual std::unique_ptr<Pattern> clone() const                       = 0;
     };
 
+    // A pattern that copies itself as its own type (the one clone of every pattern below).
+    template <typename Derived>
+    class PatternOf : public Pattern
+    {
+    public:
+      std::unique_ptr<Pattern> clone() const final
+      {
+        return std::make_unique<Derived>(static_cast<const Derived &>(*this));
+      }
+    };
+
     // A number in [lower, upper], white space around it allowed: an integer for Integer ("7.0" is
     // not one), a finite double read as C++ streams read it for Double ("1e6", ".5", "+3").
     template <typename T>
-    class Range final : public Pattern
+    class Range final : public PatternOf<Range<T>>
     {
     public:
       Range(T lower, T upper);
       bool                     match(const std::string &text) const override;
       std::string              description() const override;
-      std::unique_ptr<Pattern> clone() const override;
 
     private:
       T lower, upper;
@@ -63,39 +73,36 @@ namespace hertzgear
     using Double  = Range<double>;
 
     // Exactly "true" or "false".
-    class Bool final : public Pattern
+    class Bool final : public PatternOf<Bool>
     {
     public:
       bool                     match(const std::string &text) const override;
       std::string              description() const override;
-      std::unique_ptr<Pattern> clone() const override;
     };
 
     // One of the choices of "a|b|c", matched exactly.
-    class Selection final : public Pattern
+    class Selection final : public PatternOf<Selection>
     {
     public:
       explicit Selection(const std::string &choices);
       bool                     match(const std::string &text) const override;
       std::string              description() const override;
-      std::unique_ptr<Pattern> clone() const override;
 
     private:
       std::string choices;
     };
 
     // Any text.
-    class Anything final : public Pattern
+    class Anything final : public PatternOf<Anything>
     {
     public:
       bool                     match(const std::string &text) const override;
       std::string              description() const override;
-      std::unique_ptr<Pattern> clone() const override;
     };
 
     // min_length to max_length elements, each matching `element`, split at `separator` (see
     // split_list); "" is the empty list.
-    class List final : public Pattern
+    class List final : public PatternOf<List>
     {
     public:
       List(const Pattern &element, unsigned int min_length, unsigned int max_length,
@@ -103,7 +110,6 @@ namespace hertzgear
       List(const List &other);
       bool                     match(const std::string &text) const override;
       std::string              description() const override;
-      std::unique_ptr<Pattern> clone() const override;
       const Pattern           &element() const { return *element_pattern; }
       const std::string       &separator() const { return sep; }
 
@@ -175,7 +181,8 @@ namespace hertzgear
     // (which must outlive this object) and takes its current value as the default; a default the
     // pattern refuses, an empty help text or a key declared twice is a programming error
     // (std::logic_error).
-    void         enter_subsection(const std::string &name);
+    // A subsection's help text, when given, documents it in markdown().
+    void         enter_subsection(const std::string &name, const std::string &help = "");
     void         leave_subsection();
     const Entry &add(const std::string &key, int &value, const patterns::Pattern &pattern,
                      const std::string &help);
@@ -205,6 +212,10 @@ namespace hertzgear
     void set(const std::string &section, const std::string &key, const std::string &value);
 
     std::string print(Style style, Order order = Order::declaration) const;
+    // The reference of every entry as Markdown, in declaration order: a "## Section/Sub" heading
+    // with the subsection's help texts wherever the section changes, then a table of key,
+    // default, allowed values and meaning ('|' escaped).
+    std::string markdown() const;
 
   private:
     struct Section;
@@ -217,6 +228,8 @@ namespace hertzgear
 
     std::unique_ptr<Section> root;
     std::vector<Section *>   path; // declaration: the open subsections
+    std::vector<const Entry *> declared; // every entry, in declaration order
+    std::vector<std::pair<std::string, std::string>> section_help; // (section path, help)
   };
 
   // ("Section/Sub/key", value) of every `set` line of .prm text, in order (the used parameters of a

@@ -3,12 +3,14 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/hash.h"
+#include "common/progress.h"
 
 #include <hertzgear/version.h>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -261,4 +263,39 @@ namespace hertzgear
 
   std::string file_content_hash(const fs::path &file) { return hash_hex(slurp_file(file)); }
 
+
+  CachedStage run_cached_stage(const fs::path &out, const std::string &stage, const StageKey &key,
+                               const std::string                               &rerun_reason,
+                               const std::string                               &parameters_hash,
+                               const std::function<std::vector<std::string>()> &run)
+  {
+    CachedStage  c;
+    StageOutcome &o          = c.outcome;
+    o.stage                  = stage;
+    const std::string reason = rerun_reason.empty() ? invalid_reason(out, stage, key) : rerun_reason;
+    const auto        start  = std::chrono::steady_clock::now();
+    o.ran                    = !reason.empty();
+    if (!o.ran)
+      {
+        o.reason = "cached: key and every artifact hash match";
+        std::ifstream        in(manifest_path(out, stage));
+        const nlohmann::json manifest = nlohmann::json::parse(in);
+        for (const auto &a : manifest.at("artifacts"))
+          c.artifacts.push_back(a.at("path").get<std::string>());
+        record_parameters_hash(out, stage, parameters_hash); // now this run's artifacts
+        progress_line("run", stage + ": reused (" + o.reason + ")");
+      }
+    else
+      {
+        o.reason = reason;
+        progress_line("run", stage + ": runs (" + reason + ")");
+        fs::remove(manifest_path(out, stage)); // no manifest while the stage is under way
+        c.artifacts = run();
+      }
+    o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (o.ran)
+      write_manifest(out, stage, key, c.artifacts, o.wall_time_s, // last: the stage is done
+                     parameters_hash);
+    return c;
+  }
 } // namespace hertzgear

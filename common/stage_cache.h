@@ -6,7 +6,10 @@
 // from that file beside the artifacts: the hash ties them to one run). It is written atomically
 // after the artifacts and removed before a stage runs, so an interrupted stage never leaves a
 // manifest behind; a stage is reused only when its key matches and every artifact verifies.
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,4 +53,29 @@ namespace hertzgear
                               const std::string &parameters_hash);
   // Leftover temporaries of an interrupted write (never trusted, removed before a run).
   void remove_partial_files(const std::filesystem::path &out);
+
+  // What one stage of a cached run did (run.json records it, keys as the member names).
+  struct StageOutcome
+  {
+    std::string stage;
+    bool        ran = false;
+    std::string reason;      // why it ran, or why its cached artifacts were reused
+    double      wall_time_s = 0;
+  };
+  NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StageOutcome, stage, ran, reason, wall_time_s)
+
+  struct CachedStage
+  {
+    StageOutcome             outcome;
+    std::vector<std::string> artifacts; // relative to the run directory
+  };
+
+  // One stage of a cached run into `out`: reused when its manifest verifies under `key` and
+  // `rerun_reason` is empty (its manifest then records `parameters_hash`, the hash of this run's
+  // used_parameters.prm); else its manifest is removed, `run` runs the stage and returns its
+  // artifacts, and the new manifest is written last. Says which on the progress stream.
+  CachedStage run_cached_stage(const std::filesystem::path &out, const std::string &stage,
+                               const StageKey &key, const std::string &rerun_reason,
+                               const std::string &parameters_hash,
+                               const std::function<std::vector<std::string>()> &run);
 } // namespace hertzgear

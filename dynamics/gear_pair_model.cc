@@ -38,19 +38,23 @@ namespace hertzgear::dynamics
     {
       return n == 1.0 ? sign(d) : n * sign(d) * power(std::abs(d), n - 1.0);
     }
+
+    const NameTable<HertzianLayer, 3> hertzian_layer_names = {
+      {"dynamic", HertzianLayer::dynamic},
+      {"quasi-static", HertzianLayer::quasi_static},
+      {"off", HertzianLayer::off}};
+    const NameTable<ContactDamping, 3> contact_damping_names = {
+      {"hunt-crossley", ContactDamping::hunt_crossley},
+      {"lankarani-nikravesh", ContactDamping::lankarani_nikravesh},
+      {"viscous-only", ContactDamping::viscous_only}};
   } // namespace
 
   std::string Effects::describe() const
   {
     std::ostringstream os;
-    os << "backlash=" << (backlash ? "on" : "off") << " hertzian_layer="
-       << (hertzian_layer == HertzianLayer::dynamic      ? "dynamic" :
-           hertzian_layer == HertzianLayer::quasi_static ? "quasi-static" :
-                                                           "off")
-       << " contact_damping="
-       << (contact_damping == ContactDamping::hunt_crossley       ? "hunt-crossley" :
-           contact_damping == ContactDamping::lankarani_nikravesh ? "lankarani-nikravesh" :
-                                                                    "viscous-only")
+    os << "backlash=" << (backlash ? "on" : "off")
+       << " hertzian_layer=" << name_of(hertzian_layer, hertzian_layer_names)
+       << " contact_damping=" << name_of(contact_damping, contact_damping_names)
        << " mesh_stiffness_variation=" << (mesh_stiffness_variation ? "fourier" : "constant")
        << " rest_stiffness_variation=" << (rest_stiffness_variation ? "fourier" : "constant")
        << " ste_excitation=" << (ste_excitation ? "table" : "off");
@@ -59,20 +63,12 @@ namespace hertzgear::dynamics
 
   HertzianLayer hertzian_layer_from_name(const std::string &name)
   {
-    return from_name<HertzianLayer>(name,
-                                    {{"dynamic", HertzianLayer::dynamic},
-                                     {"quasi-static", HertzianLayer::quasi_static},
-                                     {"off", HertzianLayer::off}},
-                                    "hertzian_layer");
+    return from_name(name, hertzian_layer_names, "hertzian_layer");
   }
 
   ContactDamping contact_damping_from_name(const std::string &name)
   {
-    return from_name<ContactDamping>(name,
-                                     {{"hunt-crossley", ContactDamping::hunt_crossley},
-                                      {"lankarani-nikravesh", ContactDamping::lankarani_nikravesh},
-                                      {"viscous-only", ContactDamping::viscous_only}},
-                                     "contact_damping");
+    return from_name(name, contact_damping_names, "contact_damping");
   }
 
   double equivalent_mass(const double I1, const double I2, const double rb1, const double rb2)
@@ -98,6 +94,14 @@ namespace hertzgear::dynamics
     if (kh_tangent <= 0.0)
       return k;
     return 1.0 / (1.0 / k + 1.0 / kh_tangent);
+  }
+
+  double damping_of_ratio(const GearPairParameters &p, const double zeta)
+  {
+    return 2.0 * zeta *
+           std::sqrt(equivalent_mesh_stiffness(p.stiffness, p.effects.hertzian_layer,
+                                               p.static_force_N) *
+                     p.equivalent_mass_kg);
   }
 
   GearPairModel::GearPairModel(GearPairParameters parameters) : prm(std::move(parameters))

@@ -69,6 +69,10 @@ namespace hertzgear::dynamics
   double equivalent_mesh_stiffness(const StiffnessTable &table, HertzianLayer layer,
                                    double static_force_N);
 
+  // The mesh damping of a damping ratio zeta, c = 2 zeta sqrt(k_eq m_e), with k_eq the
+  // equivalent mesh stiffness of `parameters` at their static force.
+  double damping_of_ratio(const GearPairParameters &parameters, double damping_ratio);
+
   // Where the mesh is at one instant: all the derived quantities the analysis writes.
   struct MeshState
   {

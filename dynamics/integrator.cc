@@ -17,37 +17,23 @@ namespace hertzgear::dynamics
   // Defined in radau_integrator.cc.
   std::unique_ptr<Integrator> make_radau_iia(const IntegratorSettings &settings);
 
+  namespace
+  {
+    const NameTable<IntegratorKind, 6> integrator_names = {
+      {"rk4", IntegratorKind::rk4},
+      {"arkode-erk", IntegratorKind::arkode_erk},
+      {"arkode-dirk", IntegratorKind::arkode_dirk},
+      {"cvode-bdf", IntegratorKind::cvode_bdf},
+      {"ida", IntegratorKind::ida},
+      {"radau-iia", IntegratorKind::radau_iia}};
+  } // namespace
+
   IntegratorKind integrator_kind_from_name(const std::string &name)
   {
-    return from_name<IntegratorKind>(name,
-                                     {{"rk4", IntegratorKind::rk4},
-                                      {"arkode-erk", IntegratorKind::arkode_erk},
-                                      {"arkode-dirk", IntegratorKind::arkode_dirk},
-                                      {"cvode-bdf", IntegratorKind::cvode_bdf},
-                                      {"ida", IntegratorKind::ida},
-                                      {"radau-iia", IntegratorKind::radau_iia}},
-                                     "integrator");
+    return from_name(name, integrator_names, "integrator");
   }
 
-  std::string integrator_name(const IntegratorKind kind)
-  {
-    switch (kind)
-      {
-        case IntegratorKind::rk4:
-          return "rk4";
-        case IntegratorKind::arkode_erk:
-          return "arkode-erk";
-        case IntegratorKind::cvode_bdf:
-          return "cvode-bdf";
-        case IntegratorKind::arkode_dirk:
-          return "arkode-dirk";
-        case IntegratorKind::ida:
-          return "ida";
-        case IntegratorKind::radau_iia:
-          return "radau-iia";
-      }
-    return "?";
-  }
+  std::string integrator_name(const IntegratorKind kind) { return name_of(kind, integrator_names); }
 
   IntegratorStats &IntegratorStats::operator+=(const IntegratorStats &o)
   {

@@ -15,37 +15,26 @@
 
 namespace hertzgear::dynamics
 {
+  namespace
+  {
+    const NameTable<SweepDirection, 3> direction_names = {
+      {"up", SweepDirection::up}, {"down", SweepDirection::down}, {"both", SweepDirection::both}};
+    const NameTable<SweepMode, 3> mode_names = {{"continuation", SweepMode::continuation},
+                                                {"independent", SweepMode::independent},
+                                                {"both", SweepMode::both}};
+    const NameTable<SweepBranch, 3> branch_names = {{"up", SweepBranch::up},
+                                                    {"down", SweepBranch::down},
+                                                    {"independent", SweepBranch::independent}};
+  } // namespace
+
   SweepDirection sweep_direction_from_name(const std::string &name)
   {
-    return from_name<SweepDirection>(name,
-                                     {{"up", SweepDirection::up},
-                                      {"down", SweepDirection::down},
-                                      {"both", SweepDirection::both}},
-                                     "direction");
+    return from_name(name, direction_names, "direction");
   }
 
-  SweepMode sweep_mode_from_name(const std::string &name)
-  {
-    return from_name<SweepMode>(name,
-                                {{"continuation", SweepMode::continuation},
-                                 {"independent", SweepMode::independent},
-                                 {"both", SweepMode::both}},
-                                "mode");
-  }
+  SweepMode sweep_mode_from_name(const std::string &name) { return from_name(name, mode_names, "mode"); }
 
-  std::string sweep_branch_name(const SweepBranch branch)
-  {
-    switch (branch)
-      {
-        case SweepBranch::up:
-          return "up";
-        case SweepBranch::down:
-          return "down";
-        case SweepBranch::independent:
-          break;
-      }
-    return "independent";
-  }
+  std::string sweep_branch_name(const SweepBranch branch) { return name_of(branch, branch_names); }
 
   void check_sweep_settings(const SweepSettings &s)
   {

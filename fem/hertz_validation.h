@@ -8,6 +8,7 @@
 #include "fem/resolved_contact.h"
 #include "meshing/gear_parameters.h"
 
+#include <functional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -67,6 +68,10 @@ namespace hertzgear::fem
   class HertzValidationStudy
   {
   public:
+    // Solves one case level by level (resolved FE contact in 2D or 3D) and adds its rows and the
+    // pressure profiles of its finest level; `say` receives a line on the case (its closed forms
+    // and block) and one per level (its errors against them).
+    void run_case(const HertzCaseInput &input, const std::function<void(const std::string &)> &say);
     // The rows of one solved level, and the pressure profiles of a case's finest level.
     void add_level(const std::string &name, const HertzCase &c, const ResolvedContactLevel &l);
     void add_profiles(const std::string &name, const HertzCase &c, const ResolvedContactLevel &l);
@@ -75,6 +80,9 @@ namespace hertzgear::fem
     std::string results_csv() const;
     std::string rates_csv() const;
     std::string profiles_csv() const { return profiles.str(); }
+    // The lines of rates_csv() of the quantities the acceptance is about: semi-axes, half-width,
+    // peak pressure.
+    std::vector<std::string> acceptance_rates() const;
 
   private:
     struct Row

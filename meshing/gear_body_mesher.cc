@@ -574,4 +574,23 @@ namespace hertzgear::meshing
     gmsh::clear();
     return q;
   }
+
+  nlohmann::json mesh_quality_json(const MeshQuality &q)
+  {
+    return {{"dimension", q.dimension},
+            {"elements", q.n_elements},
+            {"nodes", q.n_nodes},
+            {"boundary_elements", q.n_boundary_elements},
+            {"non_quad_elements", q.n_other_elements},
+            {"min_scaled_jacobian", q.min_scaled_jacobian},
+            {"contact_band_target_size_mm", q.contact_band_target_size_mm},
+            {"contact_band_max_edge_mm", q.contact_band_max_edge_mm},
+            {"contact_band_mean_edge_mm", q.contact_band_mean_edge_mm},
+            {"teeth_meshed", q.n_teeth_meshed},
+            {"central_tooth", q.central_tooth},
+            {"full_gear", q.full_gear},
+            {"subdivided", q.subdivided},
+            {"max_flank_modification_error_mm", q.max_flank_modification_error_mm},
+            {"physical_groups", q.physical_groups}};
+  }
 } // namespace hertzgear::meshing

@@ -26,6 +26,8 @@
 //   tag 400 + k      coast_fillet_k
 #include "meshing/gear_geometry.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -89,6 +91,8 @@ namespace hertzgear::meshing
     double      max_flank_modification_error_mm = 0; // mapping check on the flank nodes
     std::vector<std::string> physical_groups;
   };
+  // Its record in mesh_quality.json (units in the keys).
+  nlohmann::json mesh_quality_json(const MeshQuality &quality);
 
   // Initialises gmsh on construction and finalises it on destruction; one instance at a time.
   class GearBodyMesher

@@ -32,6 +32,14 @@ namespace hertzgear::meshing
     return pitch_radius_mm(p) + p.profile_shift_coefficient * m - p.dedendum_coefficient * m;
   }
 
+  double disc_inertia_kg_m2(const GearParameters &p, const double density_kg_per_m3)
+  {
+    const double r_f  = 1e-3 * root_radius_mm(p);
+    const double r_in = 1e-3 * p.bore_radius_mm;
+    return density_kg_per_m3 * 1e-3 * p.face_width_mm * M_PI *
+           (std::pow(r_f, 4) - std::pow(r_in, 4)) / 2.0;
+  }
+
   GearGeometry::GearGeometry(const GearParameters &parameters) : params(parameters)
   {
     const auto  &p    = params;

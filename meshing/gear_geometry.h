@@ -23,6 +23,9 @@ namespace hertzgear::meshing
   double pitch_radius_mm(const GearParameters &p);
   double base_radius_mm(const GearParameters &p);
   double root_radius_mm(const GearParameters &p);
+  // Polar moment of inertia [kg m^2] of the gear body as a solid disc between the bore and the
+  // root circle over the face width: I = rho b pi (r_f^4 - r_bore^4) / 2.
+  double disc_inertia_kg_m2(const GearParameters &p, double density_kg_per_m3);
 
   class GearGeometry
   {

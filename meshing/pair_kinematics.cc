@@ -177,6 +177,11 @@ namespace hertzgear::meshing
     return pt;
   }
 
+  double PairKinematics::active_profile_start_radius_mm(const unsigned int body) const
+  {
+    return body == 0 ? point('A').radius_pinion_mm : point('E').radius_gear_mm;
+  }
+
   LineOfActionPoint PairKinematics::point(const char name) const
   {
     switch (name)

@@ -72,6 +72,9 @@ namespace hertzgear::meshing
     LineOfActionPoint point_at(double roll_distance_mm) const;
     double            radius_of_curvature_pinion_mm(double roll_distance_mm) const;
     double            radius_of_curvature_gear_mm(double roll_distance_mm) const;
+    // Where the active profile of a body (0 pinion, 1 gear) starts, the radius its flank carries
+    // contact from: point A on the pinion, point E on the gear.
+    double active_profile_start_radius_mm(unsigned int body) const;
 
     // Contact position s_j(tau) of pair j, and the pairs with s_A <= s_j <= s_E.
     double           contact_roll_distance_mm(int pair, double mesh_phase) const;

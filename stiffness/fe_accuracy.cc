@@ -118,6 +118,93 @@ namespace hertzgear::stiffness
     return csv.str();
   }
 
+  namespace
+  {
+    // The verdict on the FE rung of one level: its errors and those of the coarsest grid rung
+    // (the input's grid at the input's level) against the extrapolations.
+    struct Verdict
+    {
+      const AccuracyRung *rung = nullptr;
+      double k_fe = 0, ste_fe = 0, k_grid = 0, ste_grid = 0;
+      bool   within_1_percent = false;
+    };
+
+    Verdict verdict(const FeAccuracyStudy &study, const int level)
+    {
+      Verdict v;
+      for (const auto &g : study.fe_rungs)
+        if (g.level == level && !study.grid_rungs.empty())
+          {
+            const auto &grid   = study.grid_rungs.front();
+            v.rung             = &g;
+            v.k_fe             = study.relative_error(g, "mean_k_total_N_per_m");
+            v.ste_fe           = study.relative_error(g, "ste_peak_to_peak_um");
+            v.k_grid           = study.relative_error(grid, "mean_k_total_N_per_m");
+            v.ste_grid         = study.relative_error(grid, "ste_peak_to_peak_um");
+            v.within_1_percent = v.k_fe <= 0.01 && v.ste_fe <= 0.01 && v.k_grid <= 0.01 &&
+                                 v.ste_grid <= 0.01;
+          }
+      return v;
+    }
+  } // namespace
+
+  nlohmann::json FeAccuracyStudy::json(const int scene_level) const
+  {
+    nlohmann::json j;
+    j["reference_depth_mm"] = reference_depth_mm;
+    for (const auto &[name, x] : fe_extrapolation)
+      for (const auto &[ladder, e] : {std::pair{"fe_level", x},
+                                      std::pair{"contact_grid", grid_extrapolation.at(name)}})
+        j["extrapolation"][ladder][name] = {{"value", e.value},
+                                            {"observed_order", e.order},
+                                            {"asymptotic", e.asymptotic},
+                                            {"note", e.note}};
+    j["rows"] = nlohmann::json::array();
+    for (const auto *ladder : {&fe_rungs, &grid_rungs})
+      for (const auto &g : *ladder)
+        j["rows"].push_back({{"study", g.study},
+                             {"fe_level", g.level},
+                             {"fe_degree", g.degree},
+                             {"contact_profile_cells", g.profile_cells},
+                             {"contact_face_cells", g.face_cells},
+                             {"size_mm", g.h},
+                             {"dofs", g.dofs},
+                             {"wall_time_s", g.wall_time_s},
+                             {"mean_k_total_N_per_m", g.k_total},
+                             {"ste_peak_to_peak_um", g.ste_pp_um},
+                             {"k_mh_N_per_m_pow_n", g.k_mh},
+                             {"mean_k_rest_N_per_m", g.k_rest},
+                             {"k_total_relative_error", relative_error(g, "mean_k_total_N_per_m")},
+                             {"ste_pp_relative_error", relative_error(g, "ste_peak_to_peak_um")},
+                             {"k_mh_relative_error", relative_error(g, "k_mh_N_per_m_pow_n")},
+                             {"k_rest_relative_error", relative_error(g, "mean_k_rest_N_per_m")}});
+    if (const Verdict v = verdict(*this, scene_level); v.rung)
+      j["scene_default"] = {{"fe_level", v.rung->level},
+                            {"contact_profile_cells", v.rung->profile_cells},
+                            {"k_total_relative_error_fe", v.k_fe},
+                            {"ste_pp_relative_error_fe", v.ste_fe},
+                            {"k_total_relative_error_grid", v.k_grid},
+                            {"ste_pp_relative_error_grid", v.ste_grid},
+                            {"within_1_percent", v.within_1_percent}};
+    return j;
+  }
+
+  void FeAccuracyStudy::report(const int scene_level) const
+  {
+    if (const Verdict v = verdict(*this, scene_level); v.rung)
+      progress_line("accuracy", msg("scene default (level ", v.rung->level, ", ",
+                                    v.rung->profile_cells, " profile cells): k_total error ",
+                                    100 * v.k_fe, " % (FE) ", 100 * v.k_grid,
+                                    " % (grid), STE p-p error ", 100 * v.ste_fe, " % (FE) ",
+                                    100 * v.ste_grid, " % (grid): ",
+                                    v.within_1_percent ? "within" : "NOT within", " 1 %"));
+    for (const auto &[ladder, xs] :
+         {std::pair{"FE", &fe_extrapolation}, std::pair{"grid", &grid_extrapolation}})
+      for (const auto &[name, x] : *xs)
+        progress_line("accuracy", msg(ladder, " ladder ", name, ": extrapolated ", x.value,
+                                      ", order ", x.order, " (", x.note, ")"));
+  }
+
   FeAccuracyStudy run_fe_accuracy_study(const StiffnessInput &base, const std::vector<int> &levels,
                                         const std::vector<int> &factors,
                                         const std::filesystem::path &mesh_root, PhaseTimer &timer)

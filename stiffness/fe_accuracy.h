@@ -42,6 +42,12 @@ namespace hertzgear::stiffness
     double relative_error(const AccuracyRung &rung, const std::string &quantity) const;
     // One row per rung with the errors (accuracy_stiffness.csv).
     std::string csv() const;
+    // accuracy_stiffness.json: the extrapolations, one row per rung with its errors and, under
+    // "scene_default", the verdict on the rung of `scene_level` at the input's contact grid: is
+    // it within 1 % of the extrapolated k_total and STE peak-to-peak on both ladders?
+    nlohmann::json json(int scene_level) const;
+    // That verdict and every extrapolation as progress lines.
+    void report(int scene_level) const;
   };
 
   // Runs both ladders on the FE source. `levels` and `grid_factors` are sorted, distinct, at least

@@ -15,6 +15,8 @@
 //   c_gamma_alpha = c' (0.75 eps_alpha + 0.25)                   (mesh stiffness, eps_alpha >= 1.2)
 #include "meshing/pair_kinematics.h"
 
+#include <nlohmann/json.hpp>
+
 namespace hertzgear::stiffness
 {
   struct Iso6336Stiffness
@@ -31,6 +33,11 @@ namespace hertzgear::stiffness
     // c_gamma_alpha of ISO 6336-1 is defined for eps_alpha >= 1.2; below, it is an extrapolation.
     bool within_validity = true;
   };
+  // Its record in geometry.json, with the member names as keys: the stiffnesses, the factors, the
+  // line load and the validity (q' is left out: c'_th = 1 / q').
+  NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Iso6336Stiffness, c_prime_th_N_per_mm_um, c_prime_N_per_mm_um,
+                                     c_gamma_alpha_N_per_mm_um, C_M, C_R, C_B, load_factor,
+                                     line_load_N_per_mm, within_validity)
 
   // `pinion_torque_Nm` gives F_t = 2000 T1 / d1 on the reference circle (K_A = 1); the face
   // width is the smaller of both. Solid blanks (C_R = 1).

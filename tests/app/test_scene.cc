@@ -126,50 +126,53 @@ TEST(SceneBadInput, MissingFileIsNamed)
               HasSubstr("/nonexistent/scene.prm does not exist"));
 }
 
-TEST(SceneBadInput, UnknownKeyNamesFileLineAndKey)
+// A bad scene file: its message shall hold every one of `parts` (file, line, key, range, value).
+struct BadSceneFile
 {
-  const fs::path file = write_scene("unknown_key.prm", "subsection Operating\n"
-                                                       "  set torque_Nm = 100\n"
-                                                       "  set torque_Nmm = 100\n"
-                                                       "end\n");
-  const std::string e = input_error_of(file);
-  EXPECT_THAT(e, HasSubstr("unknown_key.prm"));
-  EXPECT_THAT(e, HasSubstr("3")); // line
-  EXPECT_THAT(e, HasSubstr("torque_Nmm"));
+  std::string              test;
+  std::string              file;
+  std::string              text;
+  std::vector<std::string> parts;
+};
+
+class SceneBadFile : public ::testing::TestWithParam<BadSceneFile>
+{};
+
+TEST_P(SceneBadFile, MessageNamesWhatIsWrong)
+{
+  const auto       &c = GetParam();
+  const std::string e = input_error_of(write_scene(c.file, c.text));
+  for (const auto &part : c.parts)
+    EXPECT_THAT(e, HasSubstr(part));
 }
 
-TEST(SceneBadInput, UnknownSectionIsNamed)
-{
-  const fs::path file = write_scene("unknown_section.prm", "subsection Operatingg\n"
-                                                           "  set torque_Nm = 100\n"
-                                                           "end\n");
-  const std::string e = input_error_of(file);
-  EXPECT_THAT(e, HasSubstr("unknown_section.prm"));
-  EXPECT_THAT(e, HasSubstr("Operatingg"));
-}
-
-TEST(SceneBadInput, OutOfRangeValueNamesKeyAndRange)
-{
-  const fs::path file = write_scene("range.prm", "subsection Gear pair\n"
-                                                 "  subsection Pinion\n"
-                                                 "    set teeth = -3\n"
-                                                 "  end\n"
-                                                 "end\n");
-  const std::string e = input_error_of(file);
-  EXPECT_THAT(e, HasSubstr("range.prm"));
-  EXPECT_THAT(e, HasSubstr("teeth"));
-  EXPECT_THAT(e, HasSubstr("6...1000"));
-}
-
-TEST(SceneBadInput, MalformedNumberIsNamed)
-{
-  const fs::path file = write_scene("malformed.prm", "subsection Operating\n"
-                                                     "  set speed_rpm = 1.5.3\n"
-                                                     "end\n");
-  const std::string e = input_error_of(file);
-  EXPECT_THAT(e, HasSubstr("speed_rpm"));
-  EXPECT_THAT(e, HasSubstr("1.5.3"));
-}
+INSTANTIATE_TEST_SUITE_P(
+  SceneBadInput, SceneBadFile,
+  ::testing::Values(
+    BadSceneFile{"UnknownKeyNamesFileLineAndKey", "unknown_key.prm",
+                 "subsection Operating\n"
+                 "  set torque_Nm = 100\n"
+                 "  set torque_Nmm = 100\n"
+                 "end\n",
+                 {"unknown_key.prm", "3" /* line */, "torque_Nmm"}},
+    BadSceneFile{"UnknownSectionIsNamed", "unknown_section.prm",
+                 "subsection Operatingg\n"
+                 "  set torque_Nm = 100\n"
+                 "end\n",
+                 {"unknown_section.prm", "Operatingg"}},
+    BadSceneFile{"OutOfRangeValueNamesKeyAndRange", "range.prm",
+                 "subsection Gear pair\n"
+                 "  subsection Pinion\n"
+                 "    set teeth = -3\n"
+                 "  end\n"
+                 "end\n",
+                 {"range.prm", "teeth", "6...1000"}},
+    BadSceneFile{"MalformedNumberIsNamed", "malformed.prm",
+                 "subsection Operating\n"
+                 "  set speed_rpm = 1.5.3\n"
+                 "end\n",
+                 {"speed_rpm", "1.5.3"}}),
+  [](const ::testing::TestParamInfo<BadSceneFile> &info) { return info.param.test; });
 
 TEST(SceneBadInput, BadOverridesAreNamed)
 {
