@@ -39,7 +39,7 @@ namespace hertzgear
       // its new ones: the report holds the folder's lock, as a run does, and stops with exit 2
       // while another process holds it. A folder this user cannot write into (shipped results)
       // is read without it: no hertzgear run of this user writes there.
-      std::optional<RunLock> lock;
+      std::optional<FolderLock> lock;
       if (::access(run_dir.c_str(), W_OK) == 0)
         lock.emplace(run_dir, "the run directory");
       return write_report(run_dir, ctx.out_dir);

@@ -4,6 +4,7 @@
 // when the first artifact is written, i.e. after the scene has been validated, so bad input
 // leaves nothing behind.
 #include "app/scene.h"
+#include "common/folder_lock.h"
 #include "common/progress.h"
 
 #include <nlohmann/json.hpp>
@@ -22,7 +23,7 @@ namespace hertzgear
 
     const std::filesystem::path &path() const { return directory; }
 
-    // Takes the folder for this process (RunLock), once; the first write takes it too. Call it
+    // Takes the folder for this process (FolderLock), once; the first write takes it too. Call it
     // before touching what is already in the folder (clean-up of an interrupted run).
     void lock() const;
 
@@ -38,25 +39,7 @@ namespace hertzgear
     std::filesystem::path            directory;
     const Scene                     &scene;
     std::string                      command_line;
-    mutable std::shared_ptr<class RunLock> held;
-  };
-
-  // Exclusive use of a run directory for the life of this object: creates the folder (and its
-  // parents) and takes an advisory lock (flock) on DIR/.hertzgear.lock, which the kernel releases
-  // when the process ends in any way. Throws InputError naming the folder (after `role`, the
-  // option or argument that gave it) and the reason when the folder cannot be made or written,
-  // and naming the holder's process when another hertzgear process uses it: a second run on one
-  // folder exits 2 at once instead of racing the first.
-  class RunLock
-  {
-  public:
-    explicit RunLock(const std::filesystem::path &directory, const std::string &role = "--out");
-    ~RunLock();
-    RunLock(const RunLock &)            = delete;
-    RunLock &operator=(const RunLock &) = delete;
-
-  private:
-    int fd = -1;
+    mutable std::shared_ptr<FolderLock> held;
   };
 
   // Metadata every artifact carries: version, git revision, scene hash.
