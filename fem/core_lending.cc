@@ -3,13 +3,35 @@
 #include "fem/petsc_ksp.h"
 
 #include <chrono>
+#include <filesystem>
+#include <string>
 #include <thread>
+
+#include <sched.h>
 
 namespace hertzgear::fem
 {
   namespace
   {
     constexpr int done_tag = 4711; // the one message each way
+
+    // mpirun binds each of two ranks to one core by default (Open MPI, --bind-to core for up to
+    // two processes), and threads inherit the binding: a rank could not use a lent core. Every
+    // thread of this process (OpenBLAS's pool included) may run on every core of the node; the
+    // thread counts alone share the cores out.
+    void allow_every_core(const int cores)
+    {
+      cpu_set_t all;
+      CPU_ZERO(&all);
+      for (int c = 0; c < cores && c < CPU_SETSIZE; ++c)
+        CPU_SET(c, &all);
+      std::error_code ec;
+      for (const auto &task : std::filesystem::directory_iterator("/proc/self/task", ec))
+        {
+          const pid_t tid = static_cast<pid_t>(std::stol(task.path().filename().string()));
+          sched_setaffinity(tid, sizeof(all), &all); // best effort: a refusal leaves the binding
+        }
+    }
   }
 
   CoreLending::CoreLending(const MPI_Comm communicator)
@@ -25,6 +47,7 @@ namespace hertzgear::fem
     if (all_threads <= own_threads || !set_blas_threads(own_threads))
       return; // nothing to lend, or not OpenBLAS
     partner = 1 - rank;
+    allow_every_core(all_threads);
     MPI_Irecv(&message, 1, MPI_INT, partner, done_tag, comm, &request);
   }
 

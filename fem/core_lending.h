@@ -10,7 +10,9 @@
 // core of the node for its OpenBLAS threads. Each rank goes back to its share when both are done.
 //
 // The exchange is one message each way between ranks 0 and 1 of `comm`; it is active only when
-// `comm` has exactly two ranks on one node and OpenBLAS is the BLAS. Otherwise every call is a
+// `comm` has exactly two ranks on one node and OpenBLAS is the BLAS. Then every thread of the
+// process may run on every core of the node (mpirun's default binding of each rank to one core
+// would keep a lent core out of reach); the thread counts share the cores out. Otherwise every call is a
 // no-op. `finish` must be called on both ranks (also after a failure of the rank's own work: it
 // does not throw), before any collective call of `comm`.
 #include <mpi.h>
