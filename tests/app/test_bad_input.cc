@@ -733,10 +733,18 @@ namespace
               std::size_t(old_positions));
     for (const auto &[file, content] : old_files)
       {
-        if (file != ".hertzgear.lock") // holds the process number of the last run
+        if (file == ".hertzgear.lock") // holds the process number of the last run
+          continue;
+        if (file.rfind("mesh/", 0) == 0) // rewritten by the FE stage itself (docs/architecture.md)
           {
-            EXPECT_EQ(slurp(dir / file), content) << file << " changed before the commit";
+            // Whole: gmsh ends the file with the closing line of its last section.
+            const std::string mesh = slurp(dir / file);
+            const auto        last = mesh.rfind('\n', mesh.size() >= 2 ? mesh.size() - 2 : 0);
+            EXPECT_EQ(mesh.compare(last == std::string::npos ? 0 : last + 1, 4, "$End"), 0)
+              << file << " is not a whole mesh";
+            continue;
           }
+        EXPECT_EQ(slurp(dir / file), content) << file << " changed before the commit";
       }
 
     const bool stopped = stiffness_run_stopped_when(dir, new_positions, signal, [](const fs::path &d) {
