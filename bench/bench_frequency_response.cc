@@ -3,6 +3,8 @@
 // (data/scenes/paper_crowned_table.prm), 200 speeds from 1000 to 20000 rpm, up.
 //
 //   build/bench/bench_frequency_response [alternations, default 3]
+//   build/bench/bench_frequency_response orbit [solves, default 50] [rpm, default 150]
+//     (one orbit alone)
 //
 // - Reference: the periodic orbit at every speed by shooting at rtol 1e-11, Newton to 1e-9 of the
 //   state scale, each started from the orbit of the speed before (where Newton fails, past the
@@ -24,6 +26,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 using namespace hertzgear::dynamics;
@@ -149,10 +152,39 @@ namespace
         e = std::max(e, std::abs(c.rms[i] - ref.rms[i]) / ref.rms[i]);
     return e;
   }
+
+  // One orbit at `rpm`, the scene's defaults, from the static equilibrium: median of `solves`.
+  void one_orbit(const int solves, const double rpm)
+  {
+    GearPairModel    model(at_speed(testing::contact_loss_pair(), base_rpm, rpm));
+    ShootingSettings s;
+    s.integrator.kind               = IntegratorKind::radau_iia;
+    s.integrator.relative_tolerance = 1e-8;
+    s.integrator.absolute_tolerance = 1e-13;
+    s.tolerance                     = 1e-6;
+    std::vector<double> times;
+    PeriodicOrbit       orbit;
+    for (int i = 0; i < solves; ++i)
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        orbit = find_periodic_orbit(model, model.static_equilibrium_state(), s);
+        times.push_back(seconds_since(t0));
+      }
+    std::printf("one orbit at %g rpm: median %.3f ms over %d solves, %d Newton iterations, "
+                "|mu|max %.2e, converged %d\n",
+                rpm, 1e3 * median(times), solves, orbit.iterations, orbit.largest_multiplier_modulus,
+                int(orbit.converged));
+  }
 } // namespace
 
 int main(int argc, char **argv)
 {
+  // `orbit [solves] [rpm]` times one orbit alone (for profiling, e.g. under callgrind).
+  if (argc > 1 && std::string(argv[1]) == "orbit")
+    {
+      one_orbit(argc > 2 ? std::max(1, std::atoi(argv[2])) : 50, argc > 3 ? std::atof(argv[3]) : 150.0);
+      return 0;
+    }
   const int alternations = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   std::printf("crowned paper pair (FE table), %d speeds %g-%g rpm, up\n", n_speeds, rpm_min, rpm_max);
   auto        t0  = std::chrono::steady_clock::now();
@@ -205,24 +237,6 @@ int main(int argc, char **argv)
               "%.3f s: shooting %.1f times faster\n",
               alternations, median(ts), chosen, e_chosen, median(tm), median(tm) / median(ts));
 
-  // One orbit at 150 rpm, the scene's defaults, from the static equilibrium.
-  GearPairModel    model(at_speed(testing::contact_loss_pair(), base_rpm, 150.0));
-  ShootingSettings s;
-  s.integrator.kind               = IntegratorKind::radau_iia;
-  s.integrator.relative_tolerance = 1e-8;
-  s.integrator.absolute_tolerance = 1e-13;
-  s.tolerance                     = 1e-6;
-  std::vector<double> times;
-  PeriodicOrbit       orbit;
-  for (int i = 0; i < 50; ++i)
-    {
-      t0    = std::chrono::steady_clock::now();
-      orbit = find_periodic_orbit(model, model.static_equilibrium_state(), s);
-      times.push_back(seconds_since(t0));
-    }
-  std::printf("one orbit at 150 rpm: median %.3f ms over 50 solves, %d Newton iterations, "
-              "|mu|max %.2e, converged %d\n",
-              1e3 * median(times), orbit.iterations, orbit.largest_multiplier_modulus,
-              int(orbit.converged));
+  one_orbit(50, 150.0);
   return 0;
 }

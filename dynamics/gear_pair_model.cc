@@ -341,9 +341,13 @@ namespace hertzgear::dynamics
 
   void GearPairModel::rhs(const double t, const double *y, double *y_dot)
   {
-    const Forces r = evaluate(t, y);
-    y_dot[0]       = y[1];
-    y_dot[1]       = (prm.static_force_N - r.force) / prm.equivalent_mass_kg;
+    derivative(evaluate(t, y), y, y_dot);
+  }
+
+  void GearPairModel::derivative(const Forces &r, const double *y, double *y_dot) const
+  {
+    y_dot[0] = y[1];
+    y_dot[1] = (prm.static_force_N - r.force) / prm.equivalent_mass_kg;
     if (has_delta_state)
       y_dot[2] = r.delta_dot;
   }
@@ -356,7 +360,20 @@ namespace hertzgear::dynamics
   void GearPairModel::jacobian(const double t, const double *y, double *J) const
   {
     const Coefficients co = coefficients(t);
+    jacobian(co, evaluate(co, y), y, J);
+  }
+
+  void GearPairModel::rhs_and_jacobian(const double t, const double *y, double *y_dot, double *J)
+  {
+    const Coefficients co = coefficients(t);
     const Forces       r  = evaluate(co, y);
+    derivative(r, y, y_dot);
+    jacobian(co, r, y, J);
+  }
+
+  void GearPairModel::jacobian(const Coefficients &co, const Forces &r, const double *y,
+                               double *J) const
+  {
     const unsigned     n  = n_states();
     std::fill(J, J + n * n, 0.0);
     const double s = (r.zone != 0 || b_c == 0.0) ? 1.0 : 0.0; // df/dx = df'/dx'

@@ -96,6 +96,7 @@ namespace hertzgear::dynamics
     void     rhs(double t, const double *y, double *y_dot) override;
     bool     has_jacobian() const override;
     void     jacobian(double t, const double *y, double *jac) const override;
+    void     rhs_and_jacobian(double t, const double *y, double *y_dot, double *jac) override;
     // The mesh period when a stiffness or the STE varies in time, else 0 (autonomous).
     double   forcing_period() const override;
     unsigned n_roots() const override { return n_root_functions; }
@@ -154,6 +155,10 @@ namespace hertzgear::dynamics
     };
     Coefficients coefficients(double t) const;
     Forces       evaluate(const Coefficients &co, const double *y) const;
+    // y' from the forces at y.
+    void         derivative(const Forces &r, const double *y, double *y_dot) const;
+    // df/dy at y from the coefficients and the forces evaluated there.
+    void         jacobian(const Coefficients &co, const Forces &r, const double *y, double *J) const;
     double k_rest(double t) const { return coefficients(t).k; }
     double k_hertz(double t) const { return coefficients(t).kh; }
     // delta from k (f - delta) = k_h G(delta) by Newton safeguarded with bisection.

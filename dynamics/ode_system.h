@@ -22,6 +22,13 @@ namespace hertzgear::dynamics
     // 0: a dense Jacobian. b > 0: jacobian() is block diagonal with n / b equal b x b blocks, so
     // that an integrator may factorise one block for all (a system with its sensitivities).
     virtual unsigned jacobian_block_size() const { return 0; }
+    // f and df/dy at one (t, y), for callers that need both at every point (the variational
+    // equations); a system may share the work of the two. Only called when has_jacobian().
+    virtual void rhs_and_jacobian(double t, const double *y, double *y_dot, double *jac)
+    {
+      rhs(t, y, y_dot);
+      jacobian(t, y, jac);
+    }
 
     // The period of f's explicit dependence on t (0: none, or not periodic). Integrators may use
     // it for starting values: a periodic steady state repeats itself one period later.

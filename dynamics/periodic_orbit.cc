@@ -42,9 +42,14 @@ namespace hertzgear::dynamics
 
   void SensitivitySystem::rhs(const double t, const double *y, double *y_dot)
   {
-    base.rhs(t, y, y_dot);
     double J[64];
-    base_jacobian(t, y, J);
+    if (base.has_jacobian())
+      base.rhs_and_jacobian(t, y, y_dot, J);
+    else
+      {
+        base.rhs(t, y, y_dot);
+        base_jacobian(t, y, J);
+      }
     const double *Phi     = y + n; // column-major: Phi_kj at k + j n
     double       *Phi_dot = y_dot + n;
     for (unsigned j = 0; j < n; ++j)
@@ -197,6 +202,13 @@ namespace hertzgear::dynamics
     // over one period has no period before it, and keeping its steps costs more than its
     // arithmetic at 12 states.
     settings.periodic_start = false;
+    // The steps of a flow over one period are set by the error test on the state and its
+    // sensitivities (the mesh mode is resolved while Phi decays), not by an output grid, so a
+    // higher order pays: below rtol 1e-7 radau-iia takes 7 stages instead of the 5 of its
+    // default (docs/accuracy-dynamics.md, "Stages of a flow with sensitivities").
+    if (settings.kind == IntegratorKind::radau_iia && settings.stages == 0 &&
+        settings.relative_tolerance < 1e-7)
+      settings.stages = 7;
     return settings;
   }
 

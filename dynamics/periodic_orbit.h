@@ -87,7 +87,8 @@ namespace hertzgear::dynamics
                                             const std::vector<double> &y0, double duration);
 
   // The integrator settings for flows over one period with their sensitivities: those given,
-  // without Radau IIA's periodic starting values.
+  // without Radau IIA's periodic starting values, and with 7 stages below rtol 1e-7 where the
+  // stage count is left to the tolerance.
   IntegratorSettings sensitivity_integrator(IntegratorSettings settings);
 
   struct ShootingSettings

@@ -223,7 +223,11 @@ namespace hertzgear::stiffness
         p.n_teeth                  = static_cast<unsigned int>(gear.n_teeth());
         p.cut_start_id             = tag::sector_cut_start;
         p.cut_end_id               = tag::sector_cut_end;
-        p.between_work_units       = between_work_units;
+        // Through this body's hook, which may be cleared when its caller's state ends.
+        p.between_work_units = [this] {
+          if (between_work_units)
+            between_work_units();
+        };
         body = std::make_unique<fem::CyclicGearBody<dim>>(sector, p);
         // The sector's one tooth (tooth 0 of its mesh) carries every load, turned into it.
         body->set_load_boundary_ids({static_cast<dealii::types::boundary_id>(tag::drive_flank)});
@@ -654,6 +658,7 @@ namespace hertzgear::stiffness
         });
         for (unsigned int b = 0; b < 2; ++b)
           {
+            shared[b]->between_work_units = nullptr; // `lending` ends here; later solves poll no one
             shared[b]->share();
             const double      wall = shared[b]->wall_s;
             const std::size_t cut = shared[b]->n_cut_face_dofs();
