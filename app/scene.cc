@@ -348,7 +348,8 @@ namespace hertzgear
             "or rk4 (the paper's fixed step).");
       s.add("radau_stages", d.radau_stages, 0, Patterns::Integer(0, 9),
             "Stages s of radau-iia (count: 3, 5, 7 or 9, order 2s - 1; 0 chooses by the tolerance: "
-            "3 above 1e-5, 5 down to 1e-10, 7 below).");
+            "3 above 1e-5, 5 down to 1e-10, 7 below; the flows of periodic orbits take 7 below "
+            "1e-7).");
       s.add("relative_tolerance", d.relative_tolerance, 1.0e-8, Patterns::Double(1.0e-14, 1.0e-2),
             "Relative tolerance of the adaptive integrators [dimensionless].");
       s.add("absolute_tolerance_m", d.absolute_tolerance_m, 1.0e-13,

@@ -8,6 +8,25 @@
 
 namespace hertzgear::dynamics
 {
+  namespace
+  {
+    // Phi_dot = J Phi for n x n matrices (J row-major, Phi column-major); N > 0: n == N known at
+    // compile time.
+    template <unsigned N>
+    void jacobian_times_phi(const double *J, const double *Phi, double *Phi_dot, const unsigned n_rt)
+    {
+      const unsigned n = N > 0 ? N : n_rt;
+      for (unsigned j = 0; j < n; ++j)
+        for (unsigned i = 0; i < n; ++i)
+          {
+            double s = 0.0;
+            for (unsigned k = 0; k < n; ++k)
+              s += J[i * n + k] * Phi[k + j * n];
+            Phi_dot[i + j * n] = s;
+          }
+    }
+  } // namespace
+
   SensitivitySystem::SensitivitySystem(OdeSystem &base_system, std::vector<double> scales)
     : base(base_system), n(base_system.n_states()), scale(std::move(scales))
   {
@@ -50,16 +69,13 @@ namespace hertzgear::dynamics
         base.rhs(t, y, y_dot);
         base_jacobian(t, y, J);
       }
-    const double *Phi     = y + n; // column-major: Phi_kj at k + j n
-    double       *Phi_dot = y_dot + n;
-    for (unsigned j = 0; j < n; ++j)
-      for (unsigned i = 0; i < n; ++i)
-        {
-          double s = 0.0;
-          for (unsigned k = 0; k < n; ++k)
-            s += J[i * n + k] * Phi[k + j * n];
-          Phi_dot[i + j * n] = s;
-        }
+    // Phi' = J Phi (Phi column-major: Phi_kj at k + j n), unrolled for the pair's 2 and 3 states.
+    if (n == 3)
+      jacobian_times_phi<3>(J, y + n, y_dot + n, n);
+    else if (n == 2)
+      jacobian_times_phi<2>(J, y + n, y_dot + n, n);
+    else
+      jacobian_times_phi<0>(J, y + n, y_dot + n, n);
   }
 
   void SensitivitySystem::jacobian(const double t, const double *y, double *jac) const

@@ -181,14 +181,26 @@ namespace hertzgear::dynamics
       void solve(T *b) const
       {
         if (block == 0)
-          solve_block(b, dim());
-        else
-          for (int s0 = 0; s0 < dim(); s0 += block)
-            solve_block(b + s0, block);
+          {
+            solve_block(b, dim());
+            return;
+          }
+        if constexpr (NM >= 6) // the pair with a dynamic layer and its sensitivities: unrolled
+          if (block == 3)
+            {
+              for (int s0 = 0; s0 < dim(); s0 += 3)
+                solve_block<3>(b + s0, 3);
+              return;
+            }
+        for (int s0 = 0; s0 < dim(); s0 += block)
+          solve_block(b + s0, block);
       }
 
-      void solve_block(T *b, const int m) const
+      // M > 0: the block size known at compile time (m == M).
+      template <int M = 0>
+      void solve_block(T *b, const int m_rt) const
       {
+        const int m = M > 0 ? M : m_rt;
         T x[NM];
         for (int i = 0; i < m; ++i)
           x[i] = b[perm[i]];
