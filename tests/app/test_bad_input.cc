@@ -191,8 +191,9 @@ namespace
     EXPECT_THAT(r.err, HasSubstr(c.named)) << what;
     EXPECT_FALSE(fs::exists(fresh)) << what << ": left a folder";
     // Refusal comes from the checks, before any work: far within a second for these scenes (a
-    // generous bound that a hang on a FIFO or a read of /dev/zero would exceed by far).
-    EXPECT_LT(wall, 10.0) << what;
+    // generous bound that a hang on a FIFO or a read of /dev/zero would exceed by far; five times
+    // as long in a sanitizer build, whose start-up alone takes seconds).
+    EXPECT_LT(wall, 10.0 * HERTZGEAR_TIME_FACTOR) << what;
     // `check` agrees on every case (class 4): on the same scene, and on the same --out when the
     // case is about the output place (`check --out` writes the resolved scene there).
     const std::string check = "check " + c.scene + (c.out.empty() ? "" : " --out " + quoted(out));
