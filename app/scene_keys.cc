@@ -15,6 +15,8 @@ namespace hertzgear
         {"mesh_misalignment_mm", "Operating/mesh_misalignment_um"},
         {"axis_inclination_mm", "Operating/axis_inclination_um"},
         {"axis_deviation_mm", "Operating/axis_deviation_um"},
+        {"center_distance_mm", "Operating/center_distance_mm"},
+        {"backlash_loa_mm", "Operating/backlash_mm"},
         {"torque_map_percent", "Stiffness/Map/torque_percent"},
         {"crowning_map_mm", "Stiffness/Map/crowning_um"},
         {"misalignment_map_mm", "Stiffness/Map/mesh_misalignment_um"},
@@ -63,9 +65,34 @@ namespace hertzgear
       return text;
     }
 
-    // The scene key of a field, or empty.
+    // Fields of one gear (meshing::GearParameters) whose scene key under "Gear pair/Pinion/" or
+    // "Gear pair/Gear/" has another name; every other field is its own key
+    // (app/meshing_setup.cc fills them).
+    const std::map<std::string, std::string> &gear_keys()
+    {
+      static const std::map<std::string, std::string> keys = {
+        {"pressure_angle_rad", "pressure_angle_deg"},
+        {"crowning_mm", "crowning_um"},
+        {"tip_relief_mm", "tip_relief_um"},
+        {"helix_slope_deviation_mm", "helix_slope_deviation_um"},
+        {"lead_end_relief_mm", "lead_end_relief_um"},
+        {"profile_crowning_mm", "profile_crowning_um"},
+        {"root_relief_mm", "root_relief_um"}};
+      return keys;
+    }
+
+    // The scene key of a field, or empty. A gear's field is named "pinion.<field>" or
+    // "gear.<field>" (meshing::field).
     std::string scene_key(const std::string &field)
     {
+      for (const auto &[gear, section] : {std::pair<std::string, std::string>{"pinion.", "Gear pair/Pinion/"},
+                                          std::pair<std::string, std::string>{"gear.", "Gear pair/Gear/"}})
+        if (field.rfind(gear, 0) == 0)
+          {
+            const std::string own = field.substr(gear.size());
+            const auto        it  = gear_keys().find(own);
+            return section + (it == gear_keys().end() ? own : it->second);
+          }
       const auto it = scene_keys().find(field);
       return it == scene_keys().end() ? std::string() : it->second;
     }

@@ -15,12 +15,12 @@ namespace hertzgear
 
   namespace
   {
-    // Renames the fields written under a temporary name into place (the old folder is gone by
-    // then), so that the folder is never half there.
-    void commit_fields(const fs::path &partial, const fs::path &fields_dir)
+    // Renames a folder written under a temporary name (fields/, mesh/) into place (the old folder
+    // is gone by then), so that the folder is never half there.
+    void commit_folder(const fs::path &partial, const fs::path &folder)
     {
-      if (!partial.empty())
-        fs::rename(partial, fields_dir);
+      if (!partial.empty() && fs::exists(partial))
+        fs::rename(partial, folder);
     }
   } // namespace
 
@@ -88,7 +88,12 @@ namespace hertzgear
   {
     const auto &source = stiffness_source(scene);
     auto        input  = stiffness_input(scene);
-    input.fe.mesh_dir  = dir.path() / "mesh";
+    // The meshes are made in a hidden folder and arrive with their table (below): a run stopped
+    // during the analysis leaves the old table with its own meshes. One name for every process
+    // (rank 0's), since all of them read the meshes.
+    const fs::path mesh_dir = dir.path() / "mesh";
+    if (source.uses_fe())
+      input.fe.mesh_dir = processes::all_gather(temporary_path_for(mesh_dir).string()).front();
     if (write_fields && source.uses_fe())
       input.fe.fields_dir = dir.path() / "fields";
     auto result = source.compute(input, timer);
@@ -98,10 +103,10 @@ namespace hertzgear
         // What belongs to the previous table leaves before the new one arrives, the table
         // (stiffness.json) first: an interruption at any point leaves the old set without some of
         // its files, or the new set without some of its files, never a mix of the two (no new
-        // table beside old fields, no new stiffness.csv beside an old stiffness.json).
+        // table beside old fields or meshes, no new stiffness.csv beside an old stiffness.json).
         std::vector<std::string> previous = {"stiffness.json"};
         previous.insert(previous.end(), previous_records.begin(), previous_records.end());
-        for (const auto *file : {"stiffness_map.csv", "contact_pattern.csv", "fields"})
+        for (const auto *file : {"stiffness_map.csv", "contact_pattern.csv", "fields", "mesh"})
           previous.emplace_back(file);
         for (const auto &file : previous)
           fs::remove_all(dir.path() / file);
@@ -115,8 +120,10 @@ namespace hertzgear
         if (!result.pattern.empty())
           dir.write_text("contact_pattern.csv", stiffness::contact_pattern_csv(result));
         dir.write_json("stiffness.json", json); // the table, last of the tables
-        // The fields folder appears complete, after the tables, or not at all.
-        commit_fields(result.fields_partial_dir, input.fe.fields_dir);
+        // The meshes and fields folders appear complete, after the tables, or not at all.
+        if (source.uses_fe())
+          commit_folder(input.fe.mesh_dir, mesh_dir);
+        commit_folder(result.fields_partial_dir, input.fe.fields_dir);
       }
     return result;
   }

@@ -4,6 +4,7 @@
 
 #include "common/atomic_file.h"
 #include "common/errors.h"
+#include "meshing/field_names.h"
 
 #include <Eigen/Geometry>
 #include <gmsh.h>
@@ -116,7 +117,8 @@ namespace hertzgear::meshing
         const double a1         = g.root_fillet_angle_rad();
         HG_REQUIRE_INPUT(half_pitch - a1 > 1e-9, g.parameters().name,
                          ": the fillets of neighbouring teeth meet on the root circle; meshing "
-                         "needs a root arc between them (reduce the cutter tip radius)");
+                         "needs a root arc between them (reduce the cutter tip radius, ",
+                         field(g.parameters(), "cutter_tip_radius_coefficient"), ")");
         const double u_F = g.form_roll_angle(), u_a = g.tip_roll_angle();
         const double u_S = std::clamp(g.roll_angle_at_radius(std::max(r_active, r_b)), u_F, u_a);
         const bool   split = (u_S - u_F) > 1e-3 * (u_a - u_F);
@@ -176,7 +178,7 @@ namespace hertzgear::meshing
         HG_REQUIRE_INPUT(r_bore > 0 && r_bore < r_f - 0.1 * g.module_mm(), g.parameters().name,
                          ": meshing needs a bore (the body is clamped there) with a rim of at "
                          "least 0.1 m below the root circle: bore radius ", r_bore,
-                         " mm, root radius ", r_f, " mm");
+                         " mm, root radius ", r_f, " mm (", field(g.parameters(), "bore_radius_mm"), ")");
         if (full)
           {
             const int loop = geo::addCurveLoop(outer);

@@ -1,6 +1,7 @@
 #include "meshing/gear_geometry.h"
 
 #include "common/errors.h"
+#include "meshing/field_names.h"
 #include "meshing/involute.h"
 
 #include <cmath>
@@ -44,22 +45,25 @@ namespace hertzgear::meshing
   {
     const auto  &p    = params;
     const auto   name = p.name;
-    HG_REQUIRE_INPUT(p.teeth >= 6, name, ": ", p.teeth, " teeth is too few for a spur gear (>= 6)");
+    HG_REQUIRE_INPUT(p.teeth >= 6, name, ": ", p.teeth, " teeth is too few for a spur gear (>= 6; ",
+                     field(p, "teeth"), ")");
     HG_REQUIRE_INPUT(p.module_mm > 0 && std::isfinite(p.module_mm), name, ": module ",
-                     p.module_mm, " mm must be positive");
+                     p.module_mm, " mm must be positive (", field(p, "module_mm"), ")");
     HG_REQUIRE_INPUT(p.face_width_mm > 0, name, ": face width ", p.face_width_mm,
-                     " mm must be positive");
+                     " mm must be positive (", field(p, "face_width_mm"), ")");
     HG_REQUIRE_INPUT(p.pressure_angle_rad > 0 && p.pressure_angle_rad < pi / 4, name,
                      ": pressure angle ", p.pressure_angle_rad * 180 / pi,
-                     " deg is outside (0, 45) deg");
+                     " deg is outside (0, 45) deg (", field(p, "pressure_angle_rad"), ")");
     // A spur tooth narrower than half a module or wider than 50 modules is a plate or a
     // strip, not a gear tooth: the beam/plate assumptions behind every stiffness model fail.
     HG_REQUIRE_INPUT(p.face_width_mm >= 0.5 * p.module_mm && p.face_width_mm <= 50 * p.module_mm,
                      name, ": absurd dimensions: face width ", p.face_width_mm, " mm with module ",
                      p.module_mm, " mm (b/m = ", p.face_width_mm / p.module_mm,
-                     "; a spur gear needs 0.5 <= b/m <= 50)");
+                     "; a spur gear needs 0.5 <= b/m <= 50; ", field(p, "face_width_mm"), ", ",
+                     field(p, "module_mm"), ")");
     HG_REQUIRE_INPUT(p.cutter_tip_radius_coefficient >= 0, name,
-                     ": cutter tip radius coefficient must be >= 0");
+                     ": cutter tip radius coefficient must be >= 0 (",
+                     field(p, "cutter_tip_radius_coefficient"), ")");
 
     const double m = p.module_mm, alpha = p.pressure_angle_rad, x = p.profile_shift_coefficient;
     r     = meshing::pitch_radius_mm(p);
@@ -70,7 +74,8 @@ namespace hertzgear::meshing
     r_f   = meshing::root_radius_mm(p);
     HG_REQUIRE_INPUT(r_f > 0, name, ": absurd dimensions: root radius ", r_f,
                      " mm is not positive (teeth ", p.teeth, ", dedendum ",
-                     p.dedendum_coefficient, " m, profile shift ", x, ")");
+                     p.dedendum_coefficient, " m, profile shift ", x, "; ", field(p, "teeth"), ", ",
+                     field(p, "dedendum_coefficient"), ", ", field(p, "profile_shift_coefficient"), ")");
 
     // Generating rack, in the generation frame: gear centre at the origin, the rack's rolling
     // line tangent to the reference circle at y = r, the cutter tooth centred on x = 0 filling
@@ -83,11 +88,13 @@ namespace hertzgear::meshing
     x_c            = 0.5 * e + (y_c - r) * std::tan(alpha) - rho / std::cos(alpha);
     HG_REQUIRE_INPUT(x_c >= 0, name, ": cutter tip radius rho_fP = ",
                      p.cutter_tip_radius_coefficient, " m is too large for the rack's tip (the "
-                     "rounds of both cutter flanks overlap)");
+                     "rounds of both cutter flanks overlap; ",
+                     field(p, "cutter_tip_radius_coefficient"), ")");
     HG_REQUIRE_INPUT(r - y_c > 0, name, ": profile shift x = ", x,
                      " puts the centre of the cutter's tip round outside the reference circle "
                      "(x must be below (h_fP - rho_fP)/m = ",
-                     p.dedendum_coefficient - p.cutter_tip_radius_coefficient, ")");
+                     p.dedendum_coefficient - p.cutter_tip_radius_coefficient, "; ",
+                     field(p, "profile_shift_coefficient"), ")");
     // The round touches the straight cutter flank at T; the involute starts where T is
     // generated, i.e. when T lies on the rack's line of action through the pitch point I.
     const double y_T           = y_c - rho * std::sin(alpha);
@@ -102,7 +109,8 @@ namespace hertzgear::meshing
                      " teeth with profile shift x = ", x,
                      " are undercut by the cutter (the involute would start below the base "
                      "circle); use a profile shift x >= ",
-                     x_min, " or more teeth");
+                     x_min, " or more teeth (", field(p, "profile_shift_coefficient"), ", ",
+                     field(p, "teeth"), ")");
     u_F = std::max(0.0, roll_length_F) / r_b;
     r_F = r_b * std::sqrt(1 + u_F * u_F);
     phi_form = (x_c - (r - y_c) / std::tan(alpha)) / r;
@@ -110,7 +118,8 @@ namespace hertzgear::meshing
 
     HG_REQUIRE_INPUT(r_a > r_F, name, ": tip radius ", r_a,
                      " mm is not above the form radius ", r_F,
-                     " mm where the involute starts: the tooth has no involute flank");
+                     " mm where the involute starts: the tooth has no involute flank (",
+                     field(p, "tip_radius_mm"), ", ", field(p, "addendum_coefficient"), ")");
     u_a = roll_angle_at_radius(r_a);
     check();
   }
@@ -124,17 +133,24 @@ namespace hertzgear::meshing
     HG_REQUIRE_INPUT(s_a >= limit, p.name, ": pointed tip: the top land is ", s_a,
                      " mm at the tip radius ", r_a, " mm, below the limit ",
                      p.minimum_top_land_coefficient, " m = ", limit,
-                     " mm; reduce the tip radius or the profile shift");
+                     " mm; reduce the tip radius (", field(p, "tip_radius_mm"),
+                     ", or ", field(p, "addendum_coefficient"), " when it is 0) or the profile shift (",
+                     field(p, "profile_shift_coefficient"), ")");
     HG_REQUIRE_INPUT(p.tip_relief_mm >= 0 && p.tip_relief_length_mm >= 0 && p.crowning_mm >= 0,
-                     p.name, ": crowning and tip relief must be >= 0");
+                     p.name, ": crowning and tip relief must be >= 0 (", field(p, "crowning_mm"), ", ",
+                     field(p, "tip_relief_mm"), ", ", field(p, "tip_relief_length_mm"), ")");
     HG_REQUIRE_INPUT(p.lead_end_relief_mm >= 0 && p.lead_end_relief_length_mm >= 0 &&
                        p.profile_crowning_mm >= 0 && p.root_relief_mm >= 0 &&
                        p.root_relief_length_mm >= 0,
-                     p.name, ": lead end relief, profile crowning and root relief must be >= 0");
+                     p.name, ": lead end relief, profile crowning and root relief must be >= 0 (",
+                     field(p, "lead_end_relief_mm"), ", ", field(p, "lead_end_relief_length_mm"), ", ",
+                     field(p, "profile_crowning_mm"), ", ", field(p, "root_relief_mm"), ", ",
+                     field(p, "root_relief_length_mm"), ")");
     HG_REQUIRE_INPUT(p.lead_end_relief_length_mm <= 0.5 * p.face_width_mm, p.name,
                      ": lead end relief length ", p.lead_end_relief_length_mm,
                      " mm is larger than the flank allows: the reliefs at both face ends meet "
-                     "beyond half the face width (", 0.5 * p.face_width_mm, " mm)");
+                     "beyond half the face width (", 0.5 * p.face_width_mm, " mm; ",
+                     field(p, "lead_end_relief_length_mm"), ")");
     // The modifications remove material normal to the flank; at the tip this thins the tooth by
     // 2 Delta / cos(alpha_a) (an involute moved by Delta normal is the same involute turned by
     // Delta / r_b). The corners at the face ends must keep the minimum top land.
@@ -150,15 +166,18 @@ namespace hertzgear::meshing
                           " um at the tip corners)" :
                         std::string()),
                      " are larger than the geometry allows: they leave a top land of ", s_a_mod,
-                     " mm at the face ends, below the limit ", limit, " mm");
+                     " mm at the face ends, below the limit ", limit, " mm (",
+                     field(p, "crowning_mm"), ", ", field(p, "tip_relief_mm"), ")");
     const double usable_mm = r_b * (u_a - u_F);
     HG_REQUIRE_INPUT(p.tip_relief_length_mm <= usable_mm, p.name, ": tip relief length ",
                      p.tip_relief_length_mm, " mm is larger than the geometry allows: the involute "
-                     "flank is only ", usable_mm, " mm long along the line of action");
+                     "flank is only ", usable_mm, " mm long along the line of action (",
+                     field(p, "tip_relief_length_mm"), ")");
     HG_REQUIRE_INPUT(p.tip_relief_length_mm + p.root_relief_length_mm <= usable_mm, p.name,
                      ": tip relief length ", p.tip_relief_length_mm, " mm and root relief length ",
                      p.root_relief_length_mm, " mm are larger than the flank allows: the involute "
-                     "flank is only ", usable_mm, " mm long along the line of action");
+                     "flank is only ", usable_mm, " mm long along the line of action (",
+                     field(p, "tip_relief_length_mm"), ", ", field(p, "root_relief_length_mm"), ")");
   }
 
   double GearGeometry::angular_pitch_rad() const

@@ -1,6 +1,7 @@
 #include "meshing/pair_kinematics.h"
 
 #include "common/errors.h"
+#include "meshing/field_names.h"
 #include "meshing/involute.h"
 
 #include <algorithm>
@@ -19,11 +20,14 @@ namespace hertzgear::meshing
     GearParameters &p1 = params.pinion, &p2 = params.gear;
     HG_REQUIRE_INPUT(std::abs(p1.module_mm - p2.module_mm) <= 1e-12 * p1.module_mm,
                      "impossible gear pair: pinion module ", p1.module_mm,
-                     " mm differs from gear module ", p2.module_mm, " mm");
+                     " mm differs from gear module ", p2.module_mm, " mm (", field(p1, "module_mm"),
+                     ", ", field(p2, "module_mm"), ")");
     HG_REQUIRE_INPUT(std::abs(p1.pressure_angle_rad - p2.pressure_angle_rad) <= 1e-14,
-                     "impossible gear pair: the pressure angles of pinion and gear differ");
+                     "impossible gear pair: the pressure angles of pinion and gear differ (",
+                     field(p1, "pressure_angle_rad"), ", ", field(p2, "pressure_angle_rad"), ")");
     HG_REQUIRE_INPUT(params.center_distance_mm >= 0 && params.backlash_loa_mm >= 0,
-                     "centre distance and backlash must be >= 0");
+                     "centre distance and backlash must be >= 0 ({center_distance_mm}, "
+                     "{backlash_loa_mm})");
     // The single-gear checks (undercut, pointed tip, ...) first: they name the gear and the cause.
     GearGeometry{p1};
     GearGeometry{p2};
@@ -35,7 +39,8 @@ namespace hertzgear::meshing
     HG_REQUIRE_INPUT(inv_tight > 0, "impossible gear pair: the profile shifts x1 + x2 = ",
                      p1.profile_shift_coefficient + p2.profile_shift_coefficient,
                      " are so negative that the pair has no tight mesh (inv alpha_w = ", inv_tight,
-                     " < 0)");
+                     " < 0; ", field(p1, "profile_shift_coefficient"), ", ",
+                     field(p2, "profile_shift_coefficient"), ")");
     const double rb1 = r1 * std::cos(alpha), rb2 = r2 * std::cos(alpha);
 
     // Tight mesh of the unthinned pair (zero backlash): inv(a_w) = inv(a) + 2 tan(a) (x1 + x2) /
@@ -51,7 +56,7 @@ namespace hertzgear::meshing
         a_w = params.center_distance_mm;
         HG_REQUIRE_INPUT(a_w > rb1 + rb2, "centre distance ", a_w,
                          " mm jams the pair: it is not even above the sum of the base radii ",
-                         rb1 + rb2, " mm (tight-mesh distance ", a_tight, " mm)");
+                         rb1 + rb2, " mm (tight-mesh distance ", a_tight, " mm; {center_distance_mm})");
         alpha_w = std::acos((rb1 + rb2) / a_w);
       }
     else
@@ -92,30 +97,36 @@ namespace hertzgear::meshing
     const GearGeometry &g1 = pinion(), &g2 = gear();
     HG_REQUIRE_INPUT(j_bn >= -1e-9 * g1.module_mm(), "centre distance ", a_w,
                      " mm jams the pair: the teeth overlap by ", -j_bn,
-                     " mm along the line of action (the tight-mesh distance is ", a_tight, " mm)");
+                     " mm along the line of action (the tight-mesh distance is ", a_tight,
+                     " mm; {center_distance_mm})");
     const double c1 = a_w - g1.tip_radius_mm() - g2.root_radius_mm();
     const double c2 = a_w - g2.tip_radius_mm() - g1.root_radius_mm();
     HG_REQUIRE_INPUT(c1 > 0 && c2 > 0, "centre distance ", a_w,
                      " mm jams the pair: no tip clearance (pinion tip to gear root ", c1,
-                     " mm, gear tip to pinion root ", c2, " mm)");
+                     " mm, gear tip to pinion root ", c2, " mm; {center_distance_mm}, ",
+                     field(g1.parameters(), "tip_radius_mm"), ", ", field(g2.parameters(), "tip_radius_mm"),
+                     ")");
     const double form1 = g1.base_radius_mm() * g1.form_roll_angle();
     const double form2 = g2.base_radius_mm() * g2.form_roll_angle();
     HG_REQUIRE_INPUT(s_A >= form1 - 1e-12, "involute interference: the gear tip (radius ",
                      g2.tip_radius_mm(), " mm) meets the pinion below its form circle (roll length ",
                      s_A, " mm < ", form1, " mm of the pinion's form radius ", g1.form_radius_mm(),
-                     " mm)");
+                     " mm; ", field(g2.parameters(), "tip_radius_mm"), ", ",
+                     field(g1.parameters(), "profile_shift_coefficient"), ")");
     HG_REQUIRE_INPUT(L - s_E >= form2 - 1e-12, "involute interference: the pinion tip (radius ",
                      g1.tip_radius_mm(), " mm) meets the gear below its form circle (roll length ",
                      L - s_E, " mm < ", form2, " mm of the gear's form radius ", g2.form_radius_mm(),
-                     " mm)");
+                     " mm; ", field(g1.parameters(), "tip_radius_mm"), ", ",
+                     field(g2.parameters(), "profile_shift_coefficient"), ")");
     HG_REQUIRE_INPUT(path_of_contact_mm() > 0, "centre distance ", a_w,
                      " mm: the gears do not mesh, their tip circles do not reach each other's "
                      "flanks along the line of action (path of contact ", path_of_contact_mm(),
-                     " mm; the tight-mesh distance is ", a_tight, " mm)");
+                     " mm; the tight-mesh distance is ", a_tight, " mm; {center_distance_mm})");
     HG_REQUIRE_INPUT(contact_ratio() >= 1.0, "contact ratio eps_alpha = ", contact_ratio(),
                      " is below 1: the next tooth pair is not in contact when the previous one "
                      "leaves (path of contact ", path_of_contact_mm(), " mm < base pitch ", p_b,
-                     " mm)");
+                     " mm; {center_distance_mm}, ", field(g1.parameters(), "tip_radius_mm"), ", ",
+                     field(g2.parameters(), "tip_radius_mm"), ")");
     const double active = path_of_contact_mm();
     for (const GearGeometry *g : {&g1, &g2})
       {
@@ -123,12 +134,13 @@ namespace hertzgear::meshing
         HG_REQUIRE_INPUT(gp.tip_relief_length_mm <= active + 1e-12, gp.name, ": tip relief length ",
                          gp.tip_relief_length_mm,
                          " mm is larger than the geometry allows: the active profile (path of "
-                         "contact) is only ", active, " mm long");
+                         "contact) is only ", active, " mm long (", field(gp, "tip_relief_length_mm"), ")");
         HG_REQUIRE_INPUT(gp.tip_relief_length_mm + gp.root_relief_length_mm <= active + 1e-12,
                          gp.name, ": tip relief length ", gp.tip_relief_length_mm,
                          " mm and root relief length ", gp.root_relief_length_mm,
                          " mm are larger than the flank allows: together they exceed the active "
-                         "profile (path of contact, ", active, " mm)");
+                         "profile (path of contact, ", active, " mm; ", field(gp, "tip_relief_length_mm"),
+                         ", ", field(gp, "root_relief_length_mm"), ")");
       }
     // A misaligned pair touches at one face end; at the other the drive flanks stand f_eq apart
     // and the back flanks j_bn - f_eq.
