@@ -2,6 +2,7 @@
 // Run the `hertzgear` program in a test and capture its exit code, stdout and stderr.
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -56,9 +57,16 @@ namespace hertzgear::testing
     return std::string(HERTZGEAR_SOURCE_DIR) + "/data/scenes/" + name;
   }
 
+  // An empty temporary folder for `name`, one per build tree (told apart by the folder of the
+  // test executable), so that the suites of two builds (a sanitizer build beside the normal one)
+  // can run at the same time without removing each other's folders.
   inline std::filesystem::path fresh_temp_dir(const std::string &name)
   {
-    const auto dir = std::filesystem::temp_directory_path() / ("hertzgear_test_" + name);
+    std::error_code ec;
+    const auto      exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const auto      tree = std::hash<std::string>{}(exe.parent_path().string()) % 1000000;
+    const auto      dir  = std::filesystem::temp_directory_path() /
+                     ("hertzgear_test_" + std::to_string(tree) + "_" + name);
     std::filesystem::remove_all(dir);
     return dir;
   }
