@@ -92,7 +92,7 @@ namespace hertzgear
     int run_dynamics(const CommandContext &ctx)
     {
       return run_stage_command(
-        ctx, run_dynamics_stage,
+        ctx, check_dynamics_inputs, run_dynamics_stage,
         [](const nlohmann::json &summary) { std::cout << summary.dump(2) << std::endl; },
         [](const nlohmann::json &) { return nlohmann::json{{"stage", "dynamics"}}; });
     }
@@ -113,6 +113,24 @@ namespace hertzgear
       return s;
     }
 
+    // Sweep/* (and --threads) as the sweep's settings, checked.
+    SweepSettings checked_sweep_settings(const Scene &scene, const int n_threads)
+    {
+      try
+        {
+          SweepSettings settings = sweep_settings(scene, n_threads);
+          check_sweep_settings(settings);
+          return settings;
+        }
+      catch (const ParameterError &e)
+        {
+          // The field as its scene key, or --threads.
+          throw InputError(keyed_message(e, [](const std::string &field) {
+            return field == "threads" ? std::string("--threads") : "Sweep/" + field;
+          }));
+        }
+    }
+
     // "[sweep] rank 1: up point 3/8  2928.57 rpm  rms DTE 108.99 um  period 1  (0.4 s)"
     void sweep_progress_line(const SweepPointDone &p)
     {
@@ -124,6 +142,19 @@ namespace hertzgear
     }
   } // namespace
 
+  void check_dynamics_inputs(const Scene &scene) { make_dynamics_setup(scene); }
+
+  void check_sweep_inputs(const Scene &scene, const int n_threads)
+  {
+    if (scene.sweep.mode == "shooting")
+      {
+        check_response_inputs(scene, true);
+        return;
+      }
+    checked_sweep_settings(scene, n_threads);
+    check_dynamics_inputs(scene);
+  }
+
   SweepStageOutput run_sweep_stage(const Scene &scene, const RunDirectory *dir, PhaseTimer &timer,
                                    const int n_threads_requested)
   {
@@ -132,20 +163,8 @@ namespace hertzgear
         const auto out = run_response_stage(scene, dir, timer, true);
         return {out.csv, out.json["integrator"]};
       }
-    SweepSettings settings;
-    try
-      {
-        settings = sweep_settings(scene, n_threads_requested);
-        check_sweep_settings(settings);
-      }
-    catch (const ParameterError &e)
-      {
-        // The field as its scene key, or --threads.
-        throw InputError(keyed_message(e, [](const std::string &field) {
-          return field == "threads" ? std::string("--threads") : "Sweep/" + field;
-        }));
-      }
-    const DynamicsSetup setup = make_dynamics_setup(scene);
+    const SweepSettings settings = checked_sweep_settings(scene, n_threads_requested);
+    const DynamicsSetup setup    = make_dynamics_setup(scene);
     const SweepModel    model{setup.parameters, setup.speed_rpm, setup.run, initial_state(scene)};
     SweepResult         result;
     {
@@ -171,18 +190,16 @@ namespace hertzgear
                                                PhaseTimer &timer) {
         return run_sweep_stage(scene, dir, timer, n_threads_requested);
       };
-      // Under mpirun only rank 0 writes; the other ranks compute their share of the points.
-      if (!processes::is_root())
-        {
-          PhaseTimer timer;
-          stage(load_scene(ctx, timer), nullptr, timer);
-          return 0;
-        }
+      // Under mpirun every rank computes its share of the speeds (rank 0 writes); the shooting
+      // sweep, one continuation, runs on rank 0.
       return run_stage_command(
-        ctx, stage, [](const SweepStageOutput &out) { std::cout << out.sweep_csv; },
+        ctx,
+        [n_threads_requested](const Scene &scene) { check_sweep_inputs(scene, n_threads_requested); },
+        stage, [](const SweepStageOutput &out) { std::cout << out.sweep_csv; },
         [](const SweepStageOutput &out) {
           return nlohmann::json{{"stage", "sweep"}, {"integrator", out.integrator}};
-        });
+        },
+        [](const Scene &scene) { return scene.sweep.mode != "shooting"; });
     }
   } // namespace
 

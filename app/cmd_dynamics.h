@@ -3,24 +3,42 @@
 #include "app/command.h"
 #include "app/dynamics_setup.h"
 #include "app/run_directory.h"
+#include "common/processes.h"
 #include "common/progress.h"
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace hertzgear
 {
-  // A command that runs one stage on its scene: with --out, `stage(scene, &dir, timer)` writes
-  // into the run directory, finished with the timing and `record(output)`; without, the output
-  // of `stage(scene, nullptr, timer)` goes to `print` and the timing summary to stderr.
-  template <typename Stage, typename Print, typename Record>
-  int run_stage_command(const CommandContext &ctx, const Stage &stage, const Print &print,
-                        const Record &record)
+  // A command that runs one stage on its scene: `check(scene)` makes every check the stage would
+  // make, before the command's start (CommandStart::begin, which locks --out); then with --out,
+  // `stage(scene, &dir, timer)` writes into the run directory, finished with the timing and
+  // `record(output)`; without, the output of `stage(scene, nullptr, timer)` goes to `print` and
+  // the timing summary to stderr. Under mpirun a stage that is `collective` for its scene runs
+  // on every rank (rank 0 writes), any other on rank 0 alone.
+  template <typename Check, typename Stage, typename Print, typename Record>
+  int run_stage_command(
+    const CommandContext &ctx, const Check &check, const Stage &stage, const Print &print,
+    const Record &record,
+    const std::function<bool(const Scene &)> &collective = [](const Scene &) { return false; })
   {
     PhaseTimer  timer;
     const Scene scene = load_scene(ctx, timer);
+    {
+      PhaseTimer::Scope scope(timer, "checks");
+      check(scene);
+    }
+    begin_on_out(ctx);
+    if (!processes::is_root())
+      {
+        if (collective(scene))
+          stage(scene, nullptr, timer);
+        return 0;
+      }
     if (ctx.out_dir.empty())
       {
         print(stage(scene, nullptr, timer));
@@ -33,6 +51,15 @@ namespace hertzgear
       }
     return 0;
   }
+
+  // Every check of the dynamics stage of `scene` (its set-up: geometry, table, effects).
+  void check_dynamics_inputs(const Scene &scene);
+  // Every check of the response stage (`response`, or the sweep with Sweep/mode = shooting when
+  // `speed_sweep`): the dynamics set-up, the parameter family and the continuation settings.
+  void check_response_inputs(const Scene &scene, bool speed_sweep);
+  // Every check of the sweep stage: Sweep/* (and --threads), then the response's or the
+  // dynamics' checks, as Sweep/mode asks.
+  void check_sweep_inputs(const Scene &scene, int n_threads);
 
   // The options of `hertzgear accuracy dynamics`: which integrators, and how far the ladder of
   // tolerances goes.

@@ -7,6 +7,7 @@
 #include "app/run_directory.h"
 #include "app/scripts.h"
 #include "common/errors.h"
+#include "common/processes.h"
 #include "common/progress.h"
 #include "dynamics/result_writer.h"
 #include "dynamics/work_precision.h"
@@ -32,11 +33,14 @@ namespace hertzgear
     PhaseTimer          timer;
     const Scene         scene = load_scene(ctx, timer);
     const DynamicsSetup setup = make_dynamics_setup(scene);
-    WorkPrecisionStudy  study;
+    const auto          cases = work_precision_cases(setup.parameters.damping_N_s_per_m == 0.0,
+                                                     options.tightest_rtol, options.integrators);
+    begin_on_out(ctx);
+    if (!processes::is_root())
+      return 0; // one process's study: rank 0's
+    WorkPrecisionStudy study;
     {
       PhaseTimer::Scope scope(timer, "reference and ladder");
-      const auto cases = work_precision_cases(setup.parameters.damping_N_s_per_m == 0.0,
-                                              options.tightest_rtol, options.integrators);
       const std::size_t n = cases.size();
       study = work_precision(setup.parameters, setup.run, initial_state(scene), cases,
                              [&](const std::size_t i, const WorkPrecisionPoint &p) {

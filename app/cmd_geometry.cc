@@ -1,5 +1,6 @@
 // `hertzgear geometry SCENE [--json]`: gear geometry, pair kinematics and ISO 6336-1 stiffness.
 #include "app/command.h"
+#include "common/processes.h"
 #include "app/meshing_setup.h"
 #include "app/run_directory.h"
 #include "common/errors.h"
@@ -59,6 +60,9 @@ namespace hertzgear
       auto        j     = meshing::pair_json(pair);
       j["iso6336"]      = stiffness::iso6336_method_b(pair, scene.operating.torque_Nm);
       j["scene_hash"]   = scene.hash;
+      begin_on_out(ctx);
+      if (!processes::is_root())
+        return 0;
       if (json)
         std::cout << j.dump(2) << std::endl;
       else

@@ -5,6 +5,7 @@
 #include "app/run_directory.h"
 #include "app/stiffness_setup.h"
 #include "common/errors.h"
+#include "common/processes.h"
 #include "meshing/gear_body_mesher.h"
 #include "stiffness/fe_tca.h"
 
@@ -21,6 +22,9 @@ namespace hertzgear
       const Scene scene = load_scene(ctx.scene_file, ctx.overrides);
       const auto  pair  = make_pair(scene);
       const auto  settings = stiffness::fe_mesh_settings(stiffness_input(scene).fe);
+      begin_on_out(ctx);
+      if (!processes::is_root())
+        return 0; // gmsh meshes on one process
       RunDirectory dir(ctx.out_dir, scene, ctx.command_line);
       std::filesystem::create_directories(dir.path());
       nlohmann::json quality;

@@ -11,11 +11,12 @@
 #include "app/scripts.h"
 #include "common/child_process.h"
 #include "common/errors.h"
+#include "common/folder_lock.h"
+#include "common/processes.h"
 
 #include <unistd.h>
 
 #include <iostream>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,10 +39,16 @@ namespace hertzgear
       // A run that writes into the folder would have the report draw its old artifacts beside
       // its new ones: the report holds the folder's lock, as a run does, and stops with exit 2
       // while another process holds it. A folder this user cannot write into (shipped results)
-      // is read without it: no hertzgear run of this user writes there.
-      std::optional<FolderLock> lock;
+      // is read without it: no hertzgear run of this user writes there. A report put elsewhere
+      // (--out) holds that folder too.
+      std::vector<std::pair<fs::path, std::string>> folders;
       if (::access(run_dir.c_str(), W_OK) == 0)
-        lock.emplace(run_dir, "the run directory");
+        folders.emplace_back(run_dir, "the run directory");
+      if (!ctx.out_dir.empty())
+        folders.emplace_back(ctx.out_dir, "--out");
+      ctx.start->begin(folders);
+      if (!processes::is_root())
+        return 0; // one process draws
       return write_report(run_dir, ctx.out_dir);
     }
   } // namespace

@@ -73,26 +73,53 @@ namespace hertzgear
     }
   } // namespace
 
+  namespace
+  {
+    // What the response stage starts from, every check made.
+    struct ResponseStart
+    {
+      DynamicsSetup        setup;
+      ResponseFamily       family;
+      ContinuationSettings settings;
+    };
+
+    ResponseStart response_start(Scene scene, const bool speed_sweep)
+    {
+      if (speed_sweep)
+        scene.response.parameter = "speed_rpm";
+      ResponseStart s;
+      s.setup    = make_dynamics_setup(scene);
+      s.family   = response_family(scene, s.setup);
+      s.settings = continuation_settings(scene, s.setup, s.family);
+      try
+        {
+          check_continuation_settings(s.settings);
+        }
+      catch (const ParameterError &e)
+        {
+          throw InputError("Response/" + e.parameter() + " = " + e.text());
+        }
+      return s;
+    }
+  } // namespace
+
+  void check_response_inputs(const Scene &scene, const bool speed_sweep)
+  {
+    response_start(scene, speed_sweep);
+  }
+
   ResponseStageOutput run_response_stage(Scene scene, const RunDirectory *dir, PhaseTimer &timer,
                                          const bool speed_sweep)
   {
     if (speed_sweep)
       scene.response.parameter = "speed_rpm";
-    DynamicsSetup setup;
+    ResponseStart prepared;
     {
       PhaseTimer::Scope scope(timer, "setup");
-      setup = make_dynamics_setup(scene);
+      prepared = response_start(scene, speed_sweep);
     }
-    const ResponseFamily       family   = response_family(scene, setup);
-    const ContinuationSettings settings = continuation_settings(scene, setup, family);
-    try
-      {
-        check_continuation_settings(settings);
-      }
-    catch (const ParameterError &e)
-      {
-        throw InputError("Response/" + e.parameter() + " = " + e.text());
-      }
+    const ResponseFamily       &family   = prepared.family;
+    const ContinuationSettings &settings = prepared.settings;
     GearPairModel start_model(settings.lambda_start == family.min ? family.family.at(family.min) :
                                                                     family.family.at(family.max));
     progress_line("response", msg("periodic orbits in ", family.column, " from ",
@@ -144,7 +171,7 @@ namespace hertzgear
     int run_response(const CommandContext &ctx)
     {
       return run_stage_command(
-        ctx,
+        ctx, [](const Scene &scene) { check_response_inputs(scene, false); },
         [](const Scene &scene, const RunDirectory *dir, PhaseTimer &timer) {
           return run_response_stage(scene, dir, timer, false);
         },

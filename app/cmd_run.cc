@@ -11,6 +11,7 @@
 #include "app/pipeline.h"
 #include "app/scripts.h"
 #include "common/errors.h"
+#include "common/processes.h"
 #include "common/progress.h"
 
 #include <chrono>
@@ -35,7 +36,8 @@ namespace hertzgear
 
     int run_run(const CommandContext &ctx, const PipelineOptions &options)
     {
-      const auto start = std::chrono::steady_clock::now();
+      const QuietOtherRanks quiet; // rank 0 tells the progress
+      const auto            start = std::chrono::steady_clock::now();
       // Scene file -> run directory. Every scene is parsed and checked before anything runs.
       std::vector<std::pair<Scene, fs::path>> jobs;
       if (!ctx.scene_file.empty())
@@ -57,10 +59,20 @@ namespace hertzgear
                                  (data / "scenes" / "paper_{uncrowned,crowned}_table.prm").string() +
                                  " on the shipped stiffness tables");
         }
+      // Every check before any folder is made, then every folder locked for the whole run.
+      std::vector<fs::path> folders;
+      for (const auto &[scene, out] : jobs)
+        {
+          check_run_inputs(scene);
+          folders.push_back(out);
+        }
+      ctx.start->begin(folders);
       for (const auto &[scene, out] : jobs)
         {
           const auto outcomes = run_pipeline(scene, out, ctx.command_line, options);
-          int        ran      = 0;
+          if (!processes::is_root())
+            continue;
+          int ran = 0;
           for (const auto &o : outcomes)
             ran += o.ran;
           std::cout << out.string() << ": " << ran << " of " << outcomes.size()

@@ -3,6 +3,7 @@
 #include "app/pipeline.h"
 #include "app/run_directory.h"
 #include "app/scene.h"
+#include "common/processes.h"
 
 #include <iostream>
 
@@ -21,6 +22,9 @@ namespace hertzgear
         PhaseTimer::Scope scope(timer, "checks");
         check_run_inputs(scene);
       }
+      begin_on_out(ctx);
+      if (!processes::is_root())
+        return 0;
       std::cout << "# scene " << scene.file.string() << " is valid (hash " << scene.hash << ")\n"
                 << "# resolved parameters:\n"
                 << scene.used_parameters_prm;
@@ -38,6 +42,9 @@ namespace hertzgear
         text = default_scene_prm();
       else
         text = load_scene("", ctx.overrides).used_parameters_prm;
+      begin_on_out(ctx);
+      if (!processes::is_root())
+        return 0;
       if (!ctx.out_dir.empty())
         {
           const Scene scene = load_scene("", ctx.overrides);

@@ -17,25 +17,23 @@ namespace hertzgear
     int run_stiffness(const CommandContext &ctx)
     {
       // Under mpirun every rank runs an FE source (collective); rank 0 alone reports and writes.
-      std::ostringstream silent;
-      const bool         writer = processes::is_root();
-      if (!writer)
-        set_progress_stream(&silent);
+      const QuietOtherRanks quiet;
+      const bool            writer = processes::is_root();
       PhaseTimer  timer;
       const Scene scene  = load_scene(ctx.scene_file, ctx.overrides);
       const auto &source = stiffness_source(scene);
       check_stiffness_input(scene);
       const std::filesystem::path out = ctx.out_dir.empty() ? "results/stiffness" : ctx.out_dir;
+      ctx.start->begin({out});
+      if (!source.uses_fe() && !writer)
+        return 0; // a closed form: rank 0's
       if (!source.uses_fe())
         progress_line("stiffness", "Stiffness/source = " + source.name() + ": " + source.summary() +
                                      ", no meshing or FE (set Stiffness/source = fem for the FE "
                                      "contact analysis)");
       const RunDirectory dir(out, scene, ctx.command_line);
       if (writer)
-        {
-          dir.lock();
-          remove_partial_files(out); // what an interrupted run left under temporary names
-        }
+        remove_partial_files(out); // what an interrupted run left under temporary names
       // The previous run's record leaves with its table: a table is never beside the
       // used_parameters.prm and run.json of another run (they follow it at the end).
       const auto result = write_stiffness(scene, dir, scene.output.write_fields, timer,
@@ -52,7 +50,6 @@ namespace hertzgear
                              {"source", source.name()},
                              {"mpi_ranks", processes::count()}});
         }
-      set_progress_stream(nullptr);
       return 0;
     }
   } // namespace

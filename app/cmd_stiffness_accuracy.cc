@@ -72,10 +72,8 @@ namespace hertzgear
     int run_accuracy_stiffness(const CommandContext &ctx, const std::string &levels_text,
                                const std::string &grid_factors_text)
     {
-      std::ostringstream silent;
-      if (!processes::is_root())
-        set_progress_stream(&silent);
-      PhaseTimer  timer;
+      const QuietOtherRanks quiet;
+      PhaseTimer            timer;
       const Scene base = load_scene(ctx.scene_file, ctx.overrides);
       HG_REQUIRE_INPUT(base.stiffness.source == "fem", "Stiffness/source = ", base.stiffness.source,
                        ": the stiffness accuracy study needs source = fem");
@@ -84,6 +82,7 @@ namespace hertzgear
       const fs::path meshes  = ctx.out_dir.empty() ?
                                  fs::temp_directory_path() / "hertzgear_accuracy_stiffness" :
                                  fs::path(ctx.out_dir);
+      ctx.start->begin({meshes}, ctx.out_dir.empty() ? "the study's mesh folder" : "--out");
       const auto study = stiffness::run_fe_accuracy_study(stiffness_input(base), levels, factors,
                                                           meshes, timer);
       const nlohmann::json summary = study.json(base.stiffness.fe_level);
@@ -105,7 +104,6 @@ namespace hertzgear
                            (dir.path() / "accuracy_stiffness.png").string()});
             }
         }
-      set_progress_stream(nullptr);
       return 0;
     }
   } // namespace

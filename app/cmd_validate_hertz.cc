@@ -86,6 +86,7 @@ namespace hertzgear
         for (const auto &f : case_files(ctx, only))
           scenes.push_back(load_validation_scene(f, ctx.overrides));
       }
+      begin_on_out(ctx);
       fem::HertzValidationStudy study;
       std::ostringstream used;
       for (const auto &v : scenes)

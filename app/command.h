@@ -5,13 +5,52 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace hertzgear
 {
+  class FolderLock;
   class PhaseTimer;
   struct Scene;
+
+  // The start of every command, the one place where the processes of a run agree before any of
+  // them writes or computes (docs/architecture.md, "Under mpirun"). Under mpirun every rank runs
+  // the command. A command calls begin() once, after its checks and before its first write or
+  // long computation: every rank's outcome so far is shared (a refusal on any rank ends every
+  // rank with its exit code, and rank 0 alone prints it), then rank 0 takes the lock of each
+  // output folder (FolderLock, held until the command ends) and shares that outcome too, so a
+  // busy folder ends all ranks with exit 2 at once. The registry runs every command through it:
+  // a command that fails before begin(), or that writes nothing and never calls it, passes the
+  // start when it ends, so that no rank waits for another. A failure after the start on one
+  // rank alone ends the whole job (main: processes::abort_all).
+  class CommandStart
+  {
+  public:
+    CommandStart();
+    ~CommandStart();
+    // Shares the checks' outcome and locks `folders` (after `role`, the option that named them).
+    void begin(const std::vector<std::filesystem::path> &folders = {},
+               const std::string                        &role    = "--out");
+    // The same with a role per folder (a folder this process holds already is skipped).
+    void begin(const std::vector<std::pair<std::filesystem::path, std::string>> &folders);
+    bool passed() const { return done; }
+
+    // For the registry: the command ended (successfully) without begin(), or failed before it
+    // with the exception in flight; the latter shares the failure and throws it on every rank.
+    void pass_at_end();
+    [[noreturn]] void fail_before_start(const std::exception_ptr &failure);
+
+  private:
+    bool                                     done = false;
+    std::vector<std::unique_ptr<FolderLock>> locks;
+  };
+
+  // What every command accepts.
+  struct CommandContext;
+  // The command's start with its --out folder, when it has one.
+  void begin_on_out(const CommandContext &ctx);
 
   // What every command accepts.
   struct CommandContext
@@ -20,7 +59,19 @@ namespace hertzgear
     std::vector<std::string> overrides;  // --set "Section/key=value", in order
     std::string              out_dir;    // --out DIR (may be empty)
     std::string              command_line;
+    // The command's start (see CommandStart); set by the registry for every command.
+    std::shared_ptr<CommandStart> start;
   };
+
+  // How a failure ends the program: its exit code and its text, with scene keys in place of
+  // library field names; line() is what main prints ("hertzgear: input error: <text>").
+  struct FailureReport
+  {
+    int         exit_code = 1;
+    std::string text;
+    std::string line() const;
+  };
+  FailureReport describe_failure(const std::exception_ptr &failure);
 
   using CommandAction = std::function<int(const CommandContext &)>;
 

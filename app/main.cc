@@ -9,11 +9,11 @@
 #include "app/command.h"
 #include "app/scene_keys.h"
 #include "common/errors.h"
+#include "common/processes.h"
 
 #include <hertzgear/version.h>
 
 #ifdef HERTZGEAR_WITH_FEM
-#  include <deal.II/base/exceptions.h>
 #  include <deal.II/base/mpi.h>
 
 #  include "fem/petsc_ksp.h"
@@ -57,7 +57,8 @@ int main(int argc, char **argv)
         known = known || sub->check_name(argv[1]);
       if (!known)
         {
-          std::cerr << "hertzgear: error: unknown command \"" << argv[1]
+          if (processes::is_root())
+            std::cerr << "hertzgear: error: unknown command \"" << argv[1]
                     << "\" (see hertzgear --help)" << std::endl;
           return exit_bad_input;
         }
@@ -81,7 +82,8 @@ int main(int argc, char **argv)
     }
   catch (const CLI::ParseError &e)
     {
-      std::cerr << "hertzgear: error: " << e.what() << "\n(see hertzgear --help)" << std::endl;
+      if (processes::is_root())
+        std::cerr << "hertzgear: error: " << e.what() << "\n(see hertzgear --help)" << std::endl;
       return exit_bad_input;
     }
 
@@ -90,38 +92,26 @@ int main(int argc, char **argv)
       const auto action = registry.chosen();
       if (!action)
         {
-          std::cerr << "hertzgear: error: no command given (see hertzgear --help)" << std::endl;
+          if (processes::is_root())
+            std::cerr << "hertzgear: error: no command given (see hertzgear --help)" << std::endl;
           return exit_bad_input;
         }
       return action();
     }
-  catch (const ParameterError &e)
+  catch (...)
     {
-      std::cerr << "hertzgear: input error: " << scene_message(e) << std::endl;
-      return exit_bad_input;
-    }
-  catch (const InputError &e)
-    {
-      std::cerr << "hertzgear: input error: " << with_scene_keys(e.what()) << std::endl;
-      return exit_bad_input;
-    }
-  catch (const NumericalError &e)
-    {
-      std::cerr << "hertzgear: numerical failure: " << with_scene_keys(e.what()) << std::endl;
-      return exit_numerical;
-    }
-#ifdef HERTZGEAR_WITH_FEM
-  catch (const dealii::ExceptionBase &e)
-    {
-      std::cerr << "hertzgear: error: ";
-      e.print_info(std::cerr);
-      std::cerr << std::endl;
-      return exit_other;
-    }
-#endif
-  catch (const std::exception &e)
-    {
-      std::cerr << "hertzgear: error: " << e.what() << std::endl;
-      return exit_other;
+      const FailureReport failure = describe_failure(std::current_exception());
+      // Under mpirun a failure every rank knows (a refusal at the command's start, a failure the
+      // ranks shared) ends every rank with its exit code and rank 0 prints it; a failure on one
+      // rank alone ends the whole job, so that no rank waits for it in a collective call.
+      if (processes::count() > 1 && !processes::failure_is_shared())
+        {
+          std::cerr << failure.line() << " (rank " << processes::rank() << " of "
+                    << processes::count() << "; ending every rank)" << std::endl;
+          processes::abort_all(failure.exit_code);
+        }
+      if (processes::is_root())
+        std::cerr << failure.line() << std::endl;
+      return failure.exit_code;
     }
 }

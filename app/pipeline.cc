@@ -10,6 +10,7 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "common/hash.h"
+#include "common/processes.h"
 #include "common/progress.h"
 
 #include <algorithm>
@@ -160,8 +161,13 @@ namespace hertzgear
       std::vector<StageOutcome> run()
       {
         const auto plan = planned_stages(scene);
+        if (!processes::is_root())
+          {
+            follow(plan);
+            return {};
+          }
         announce(plan);
-        dir.lock(); // a second run on this folder stops here, before touching the first's files
+        dir.lock(); // held since the command's start: a second run stopped there
         remove_partial_files(out);
         // The report reads the scene values; written first, it is not an artifact of any stage,
         // but every manifest of this run records its hash, which ties it to the artifacts.
@@ -228,13 +234,41 @@ namespace hertzgear
         return key;
       }
 
+      // Under mpirun the stiffness stage with an FE source and the sweep over speeds share their
+      // work among the ranks; the other stages run on rank 0.
+      bool collective(const std::string &stage) const
+      {
+        return processes::count() > 1 &&
+               ((stage == "stiffness" && stiffness_source(scene).uses_fe()) ||
+                (stage == "sweep" && scene.sweep.mode != "shooting"));
+      }
+
+      // The other ranks' part of the run: rank 0 says for each collective stage whether it runs
+      // (its cache decides) and every rank runs it then; rank 0 alone writes.
+      void follow(const std::vector<std::pair<std::string, std::string>> &plan)
+      {
+        for (const auto &[stage, why] : plan)
+          if (collective(stage) && processes::broadcast("") == "run")
+            {
+              if (stage == "stiffness")
+                write_stiffness(scene, dir, scene.output.write_fields, timer);
+              else
+                run_sweep_stage(dynamics_scene, nullptr, timer, options.sweep_threads);
+            }
+      }
+
       void run_stage(const std::string &stage)
       {
+        bool       told = false; // whether the other ranks know that the stage runs
         const auto c = run_cached_stage(out, stage, key_of(stage), options.force ? "--force" : "",
                                         parameters_hash, [&] {
+                                          if (collective(stage))
+                                            told = !processes::broadcast("run").empty();
                                           execute(stage);
                                           return artifacts_of(stage);
                                         });
+        if (collective(stage) && !told)
+          processes::broadcast("reused");
         if (!c.outcome.ran)
           timer.add(stage + " (cached)", c.outcome.wall_time_s);
         for (const auto &a : c.artifacts)
@@ -328,7 +362,6 @@ namespace hertzgear
                                          const std::string &command_line,
                                          const PipelineOptions &options)
   {
-    check_run_inputs(scene);
     return PipelineRun(scene, out, command_line, options).run();
   }
 } // namespace hertzgear

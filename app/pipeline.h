@@ -44,7 +44,10 @@ namespace hertzgear
   // whole dynamics set-up with its table. Throws InputError naming the key.
   void check_run_inputs(const Scene &scene);
 
-  // Runs the pipeline of `scene` into `out` and returns what ran; run.json records it too.
+  // Runs the pipeline of `scene` into `out` and returns what ran; run.json records it too. The
+  // caller has made the checks (check_run_inputs) and holds `out` (CommandStart::begin). Under
+  // mpirun every rank calls it: rank 0 runs the pipeline, the others their part of its
+  // collective stages (and an empty list comes back to them).
   std::vector<StageOutcome> run_pipeline(const Scene &scene, const std::filesystem::path &out,
                                          const std::string &command_line,
                                          const PipelineOptions &options = {});

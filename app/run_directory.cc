@@ -27,8 +27,11 @@ namespace hertzgear
 
   void RunDirectory::lock() const
   {
-    if (!held)
-      held = std::make_shared<FolderLock>(directory);
+    // Every command takes its folders at its start (CommandStart::begin, app/command.h), before
+    // it computes: a write into a folder not taken there is a command that skipped the rule.
+    if (!FolderLock::held_here(directory))
+      throw std::logic_error("RunDirectory: " + directory.string() +
+                             " was not taken at the command's start (CommandStart::begin)");
   }
 
   void RunDirectory::write_text(const std::string &name, const std::string &content) const

@@ -1,8 +1,8 @@
 #pragma once
 // A run directory: results, `used_parameters.prm` and `run.json` (version, git revision, scene
-// hash, command, stage timings). Every file is written atomically; the directory is created only
-// when the first artifact is written, i.e. after the scene has been validated, so bad input
-// leaves nothing behind.
+// hash, command, stage timings). Every file is written atomically. The directory is made and
+// locked at the command's start (CommandStart::begin), after the scene has been validated, so bad
+// input leaves nothing behind.
 #include "app/scene.h"
 #include "common/folder_lock.h"
 #include "common/progress.h"
@@ -23,8 +23,8 @@ namespace hertzgear
 
     const std::filesystem::path &path() const { return directory; }
 
-    // Takes the folder for this process (FolderLock), once; the first write takes it too. Call it
-    // before touching what is already in the folder (clean-up of an interrupted run).
+    // Checks that this process holds the folder (taken at the command's start by
+    // CommandStart::begin); every write checks it too. Throws std::logic_error otherwise.
     void lock() const;
 
     // Atomically write `content` to directory/name (sub-folders are created as needed).
@@ -39,7 +39,6 @@ namespace hertzgear
     std::filesystem::path            directory;
     const Scene                     &scene;
     std::string                      command_line;
-    mutable std::shared_ptr<FolderLock> held;
   };
 
   // Metadata every artifact carries: version, git revision, scene hash.

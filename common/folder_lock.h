@@ -12,6 +12,12 @@ namespace hertzgear
   // reason when the folder cannot be made or written, and naming the holder's process when
   // another hertzgear process uses it: a second run on one folder exits 2 at once instead of
   // racing the first.
+  //
+  // The lock file is opened without following a symbolic link and must be a regular file: a
+  // link or a folder of that name is refused (a link planted there must not make hertzgear
+  // truncate the file it points at). A folder this object made and that holds nothing but the
+  // lock file when the object ends (a command refused after its start) is removed again, so a
+  // refused command leaves no empty folder behind.
   class FolderLock
   {
   public:
@@ -20,7 +26,13 @@ namespace hertzgear
     FolderLock(const FolderLock &)            = delete;
     FolderLock &operator=(const FolderLock &) = delete;
 
+    // Whether this process holds the lock of `directory` (through any FolderLock alive).
+    static bool held_here(const std::filesystem::path &directory);
+
   private:
-    int fd = -1;
+    int                   fd = -1;
+    std::filesystem::path folder;         // as given
+    std::string           key;            // its absolute, normal form (held_here)
+    std::filesystem::path first_created;  // the outermost folder this object made, or empty
   };
 } // namespace hertzgear

@@ -2,6 +2,13 @@
 // The processes of one hertzgear run. Under mpirun (a build with the FE stage) every rank runs the
 // command: the FE stiffness is collective and sweep points are shared out; rank 0 alone writes
 // files and progress. A build without the FE stage, or a run without mpirun, is one process.
+//
+// Failures between processes (docs/architecture.md, "Under mpirun"): a failure that every rank
+// knows — decided on one rank and shared, or the first of several ranks' outcomes of one step —
+// is *shared*: every rank ends with its exit code and rank 0 alone prints it. A failure on one
+// rank alone after the command's start ends the whole job (abort_all), so that no rank waits for
+// a collective call that another rank has left.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,4 +19,20 @@ namespace hertzgear::processes
   bool is_root();
   // Every process's text, in rank order (collective).
   std::vector<std::string> all_gather(const std::string &mine);
+  // Rank 0's text on every rank (collective).
+  std::string broadcast(const std::string &from_root);
+
+  // Runs `step` on every rank (on rank 0 alone with `root_only`) and shares its outcome
+  // (collective): when a rank's step throws, every rank throws the failure of the lowest such
+  // rank — that rank its own exception, the others the exception of its exit code with its text
+  // (common/errors.h) — and the failure is marked shared.
+  void agree(const std::function<void()> &step, bool root_only = false);
+
+  // Marks the failure being thrown as known to every rank (main then prints it on rank 0 only and
+  // every rank returns its exit code). For code that shares failures by its own collective calls.
+  void mark_failure_shared();
+  bool failure_is_shared();
+
+  // Ends every rank of the job with `exit_code` (MPI_Abort); returns only in a single process.
+  void abort_all(int exit_code);
 } // namespace hertzgear::processes

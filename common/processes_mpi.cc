@@ -1,12 +1,18 @@
 // The processes of MPI_COMM_WORLD (main initialises MPI); before MPI is initialised, one process.
 #include "common/processes.h"
 
+#include "common/errors.h"
+
 #include <mpi.h>
+
+#include <exception>
 
 namespace hertzgear::processes
 {
   namespace
   {
+    bool shared_failure = false;
+
     bool mpi_running()
     {
       int initialised = 0, finalised = 0;
@@ -51,5 +57,63 @@ namespace hertzgear::processes
     for (int r = 0; r < n; ++r)
       parts.push_back(all.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(lengths[r])));
     return parts;
+  }
+
+  std::string broadcast(const std::string &from_root)
+  {
+    if (count() == 1)
+      return from_root;
+    int length = static_cast<int>(from_root.size());
+    MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    std::string text = is_root() ? from_root : std::string(static_cast<std::size_t>(length), '\0');
+    MPI_Bcast(text.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
+    return text;
+  }
+
+  void agree(const std::function<void()> &step, const bool root_only)
+  {
+    if (count() == 1)
+      {
+        step();
+        return;
+      }
+    int                code = exit_success;
+    std::string        text;
+    std::exception_ptr failure;
+    if (!root_only || is_root())
+      try
+        {
+          step();
+        }
+      catch (const std::exception &e)
+        {
+          code    = exit_code_of(e);
+          text    = e.what();
+          failure = std::current_exception();
+        }
+    // The lowest failing rank, then its exit code and text from it.
+    const int mine  = failure ? rank() : count();
+    int       first = count();
+    MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (first == count())
+      return;
+    MPI_Bcast(&code, 1, MPI_INT, first, MPI_COMM_WORLD);
+    int length = static_cast<int>(text.size());
+    MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+    text.resize(static_cast<std::size_t>(length));
+    MPI_Bcast(text.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+    shared_failure = true;
+    if (rank() == first)
+      std::rethrow_exception(failure); // its own kind, e.g. a ParameterError naming a value
+    throw_for_exit_code(code == exit_success ? exit_other : code, text);
+  }
+
+  void mark_failure_shared() { shared_failure = true; }
+  bool failure_is_shared() { return shared_failure; }
+
+  void abort_all(const int exit_code)
+  {
+    if (count() > 1)
+      MPI_Abort(MPI_COMM_WORLD, exit_code);
   }
 } // namespace hertzgear::processes

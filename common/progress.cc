@@ -1,6 +1,8 @@
 #include "common/progress.h"
 
 #include <iomanip>
+#include "common/processes.h"
+
 #include <iostream>
 
 namespace hertzgear
@@ -15,6 +17,18 @@ namespace hertzgear
   void set_progress_stream(std::ostream *stream)
   {
     current_progress = stream ? stream : &std::cerr;
+  }
+
+  QuietOtherRanks::QuietOtherRanks() : quiet(!processes::is_root())
+  {
+    if (quiet)
+      set_progress_stream(&sink);
+  }
+
+  QuietOtherRanks::~QuietOtherRanks()
+  {
+    if (quiet)
+      set_progress_stream(nullptr);
   }
 
   void progress_line(const std::string &stage, const std::string &text)

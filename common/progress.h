@@ -4,6 +4,7 @@
 #include <chrono>
 #include <map>
 #include <ostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,21 @@ namespace hertzgear
   // Where progress goes; defaults to std::cerr. Tests may silence it.
   std::ostream &progress_stream();
   void          set_progress_stream(std::ostream *stream);
+
+  // Under mpirun, for the life of this object, the progress of every rank but 0 goes nowhere
+  // (rank 0 tells it; common/processes.h).
+  class QuietOtherRanks
+  {
+  public:
+    QuietOtherRanks();
+    ~QuietOtherRanks();
+    QuietOtherRanks(const QuietOtherRanks &)            = delete;
+    QuietOtherRanks &operator=(const QuietOtherRanks &) = delete;
+
+  private:
+    std::ostringstream sink;
+    bool               quiet = false;
+  };
 
   // "[stiffness] position 3/16  phase 0.125  ste 12.3 um  (0.42 s)"
   void progress_line(const std::string &stage, const std::string &text);

@@ -214,7 +214,11 @@ namespace hertzgear::dynamics
       SweepResult finish()
       {
         if (n_ranks > 1)
-          gather_rows(failure, rows, stats);
+          {
+            gather_rows(failure, rows, stats);
+            if (failure)
+              processes::mark_failure_shared(); // every rank has it from the gather
+          }
         if (failure)
           std::rethrow_exception(failure);
         SweepResult result;

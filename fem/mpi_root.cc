@@ -1,6 +1,7 @@
 #include "fem/mpi_root.h"
 
 #include "common/errors.h"
+#include "common/processes.h"
 
 #include <deal.II/base/mpi.h>
 
@@ -30,6 +31,8 @@ namespace hertzgear::fem
         code = dealii::Utilities::MPI::broadcast(comm, code, 0);
         text = dealii::Utilities::MPI::broadcast(comm, text, 0);
       }
+    if (code != exit_success)
+      processes::mark_failure_shared(); // every rank throws it
     throw_for_exit_code(code, text);
   }
 
@@ -60,6 +63,7 @@ namespace hertzgear::fem
       return;
     code = dealii::Utilities::MPI::broadcast(comm, code, first);
     text = dealii::Utilities::MPI::broadcast(comm, text, first);
+    processes::mark_failure_shared(); // every rank throws it
     if (me == first)
       std::rethrow_exception(failure); // its own kind, e.g. a ParameterError naming a value
     throw_for_exit_code(code, text);
