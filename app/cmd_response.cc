@@ -25,39 +25,6 @@ namespace hertzgear
 
   namespace
   {
-    ContinuationSettings continuation_settings(const Scene &scene, const DynamicsSetup &setup,
-                                               const ResponseFamily &family)
-    {
-      const auto &r = scene.response;
-      HG_REQUIRE_INPUT(setup.run.integrator.kind != IntegratorKind::rk4,
-                       "Dynamics/integrator = rk4 cannot serve the shooting method of "
-                       "hertzgear response (it does not locate the switching events the "
-                       "saltation matrices need): use radau-iia, cvode-bdf, arkode-erk, "
-                       "arkode-dirk or ida");
-      HG_REQUIRE_INPUT(r.newton_tolerance >= 10.0 * scene.dynamics.relative_tolerance,
-                       "Response/newton_tolerance = ", r.newton_tolerance,
-                       " must be at least 10 Dynamics/relative_tolerance (", 10.0 * scene.dynamics.relative_tolerance,
-                       "): the period map is only as smooth as its integration across the "
-                       "switching events, and Newton's method cannot converge below that");
-      ContinuationSettings s;
-      s.shooting.integrator        = setup.run.integrator;
-      s.shooting.tolerance         = r.newton_tolerance;
-      s.analysis                   = setup.run;
-      s.analysis.samples_per_period = r.samples_per_period;
-      s.analysis.dense_extremes    = true;
-      s.lambda_min                 = family.min;
-      s.lambda_max                 = family.max;
-      s.lambda_start               = r.start == "low" ? family.min : family.max;
-      s.direction                  = r.start == "low" ? +1 : -1;
-      s.step_max                   = r.step_max;
-      s.step_initial               = std::min(0.005, r.step_max);
-      s.step_min                   = std::min(1e-7, 0.1 * s.step_initial);
-      s.max_points                 = r.max_points_per_branch;
-      s.follow_period_doubling     = r.period_doubling_branches > 0;
-      s.max_branches               = 1 + r.period_doubling_branches;
-      return s;
-    }
-
     // "[response] branch 0 (period 1) point 12  15143.6 rpm  rms DTE 91.65 um  stable
     //  |mu|max 0.9935  fold  (0.4 s)"
     void response_progress_line(const ResponseFamily &family, const ContinuationBranch &b,
@@ -90,15 +57,7 @@ namespace hertzgear
       ResponseStart s;
       s.setup    = make_dynamics_setup(scene);
       s.family   = response_family(scene, s.setup);
-      s.settings = continuation_settings(scene, s.setup, s.family);
-      try
-        {
-          check_continuation_settings(s.settings);
-        }
-      catch (const ParameterError &e)
-        {
-          throw InputError("Response/" + e.parameter() + " = " + e.text());
-        }
+      s.settings = continuation_settings(scene, s.setup, s.family); // checked
       return s;
     }
   } // namespace

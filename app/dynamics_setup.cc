@@ -6,7 +6,9 @@
 #include "common/errors.h"
 #include "dynamics/parameter_families.h"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace hertzgear
 {
@@ -28,6 +30,111 @@ namespace hertzgear
       return meshing::disc_inertia_kg_m2(p, mat.density_kg_per_m3);
     }
 
+    // A zero mesh damping makes the penetration equation of the dynamic Hertzian layer algebraic.
+    void check_damping(const Scene &scene, const double damping_N_s_per_m)
+    {
+      if (damping_N_s_per_m == 0.0 && scene.effects.hertzian_layer == "dynamic")
+        HG_REQUIRE_INPUT(scene.dynamics.integrator == "ida",
+                         "the mesh damping c is 0, which makes the penetration equation of the "
+                         "dynamic Hertzian layer algebraic (a DAE): use Dynamics/integrator = ida, "
+                         "or give c > 0");
+    }
+
+    // The integration settings of Dynamics/*, checked.
+    dynamics::RunSettings run_settings(const Scene &scene)
+    {
+      const auto           &d = scene.dynamics;
+      dynamics::RunSettings r;
+      r.integrator.kind               = dynamics::integrator_kind_from_name(d.integrator);
+      r.integrator.relative_tolerance = d.relative_tolerance;
+      HG_REQUIRE_INPUT(d.radau_stages == 0 || (d.radau_stages >= 3 && d.radau_stages % 2 == 1),
+                       "Dynamics/radau_stages = ", d.radau_stages, " must be 0 (by the tolerance) or "
+                       "3, 5, 7 or 9");
+      r.integrator.stages             = d.radau_stages;
+      r.integrator.absolute_tolerance = d.absolute_tolerance_m;
+      r.periods                       = d.periods;
+      r.transient_periods             = d.transient_periods;
+      r.samples_per_period            = d.samples_per_period;
+      r.steps_per_period              = d.steps_per_period;
+      HG_REQUIRE_INPUT(r.periods > r.transient_periods, "Dynamics/periods = ", r.periods,
+                       " must exceed Dynamics/transient_periods = ", r.transient_periods);
+      return r;
+    }
+
+    // The continuation parameter of Response/parameter: its key, column and range.
+    ResponseFamily response_range(const Scene &scene)
+    {
+      ResponseFamily f;
+      const auto    &r = scene.response;
+      f.column         = r.parameter;
+      if (r.parameter == "speed_rpm")
+        {
+          f.key = "Operating/speed_rpm";
+          f.min = scene.sweep.speed_min_rpm;
+          f.max = scene.sweep.speed_max_rpm;
+        }
+      else if (r.parameter == "torque_Nm")
+        {
+          f.key = "Operating/torque_Nm";
+          f.min = r.torque_min_Nm;
+          f.max = r.torque_max_Nm;
+        }
+      else
+        {
+          HG_REQUIRE_INPUT(r.parameter == "damping_ratio", "Response/parameter = ", r.parameter,
+                           " is not one of speed_rpm, torque_Nm, damping_ratio");
+          HG_REQUIRE_INPUT(scene.dynamics.damping_from == "ratio",
+                           "Response/parameter = damping_ratio needs Dynamics/damping_from = ratio "
+                           "(the scene gives the damping as a coefficient)");
+          f.key = "Dynamics/damping_ratio";
+          f.min = r.damping_ratio_min;
+          f.max = r.damping_ratio_max;
+        }
+      return f;
+    }
+
+    dynamics::ContinuationSettings continuation_settings_of(const Scene &scene,
+                                                            const dynamics::RunSettings &run,
+                                                            const ResponseFamily &family)
+    {
+      const auto &r = scene.response;
+      HG_REQUIRE_INPUT(run.integrator.kind != dynamics::IntegratorKind::rk4,
+                       "Dynamics/integrator = rk4 cannot serve the shooting method of "
+                       "hertzgear response (it does not locate the switching events the "
+                       "saltation matrices need): use radau-iia, cvode-bdf, arkode-erk, "
+                       "arkode-dirk or ida");
+      HG_REQUIRE_INPUT(r.newton_tolerance >= 10.0 * scene.dynamics.relative_tolerance,
+                       "Response/newton_tolerance = ", r.newton_tolerance,
+                       " must be at least 10 Dynamics/relative_tolerance (",
+                       10.0 * scene.dynamics.relative_tolerance,
+                       "): the period map is only as smooth as its integration across the "
+                       "switching events, and Newton's method cannot converge below that");
+      dynamics::ContinuationSettings s;
+      s.shooting.integrator         = run.integrator;
+      s.shooting.tolerance          = r.newton_tolerance;
+      s.analysis                    = run;
+      s.analysis.samples_per_period = r.samples_per_period;
+      s.analysis.dense_extremes     = true;
+      s.lambda_min                  = family.min;
+      s.lambda_max                  = family.max;
+      s.lambda_start                = r.start == "low" ? family.min : family.max;
+      s.direction                   = r.start == "low" ? +1 : -1;
+      s.step_max                    = r.step_max;
+      s.step_initial                = std::min(0.005, r.step_max);
+      s.step_min                    = std::min(1e-7, 0.1 * s.step_initial);
+      s.max_points                  = r.max_points_per_branch;
+      s.follow_period_doubling      = r.period_doubling_branches > 0;
+      s.max_branches                = 1 + r.period_doubling_branches;
+      try
+        {
+          dynamics::check_continuation_settings(s);
+        }
+      catch (const ParameterError &e)
+        {
+          throw InputError("Response/" + e.parameter() + " = " + e.text());
+        }
+      return s;
+    }
   } // namespace
 
   dynamics::StiffnessTable stiffness_table_for(const Scene &scene)
@@ -44,16 +151,26 @@ namespace hertzgear
     return source.compute(stiffness_input(scene), timer).table;
   }
 
-  DynamicsSetup make_dynamics_setup(const Scene &scene)
+  void check_dynamics_scene(const Scene &scene)
   {
-    make_pair(scene); // the dynamics uses the geometry (F_0 = T_1 / r_b1, inertias): check it
-    DynamicsSetup s;
-    const auto   &d  = scene.dynamics;
-    const auto   &op = scene.operating;
+    const auto &op = scene.operating;
     HG_REQUIRE_INPUT(op.center_distance_mm == 0.0,
                      "Operating/center_distance_mm = ", op.center_distance_mm,
                      ": the dynamics takes the backlash along the line of action from "
                      "Operating/backlash_mm; set center_distance_mm = 0 and give backlash_mm");
+    HG_REQUIRE_INPUT(op.speed_rpm > 0.0, "Operating/speed_rpm must be > 0 for the dynamics");
+    run_settings(scene);
+    if (scene.dynamics.damping_from != "ratio")
+      check_damping(scene, scene.dynamics.damping_coefficient_N_s_per_m);
+  }
+
+  DynamicsSetup make_dynamics_setup(const Scene &scene)
+  {
+    make_pair(scene); // the dynamics uses the geometry (F_0 = T_1 / r_b1, inertias): check it
+    check_dynamics_scene(scene);
+    DynamicsSetup s;
+    const auto   &d  = scene.dynamics;
+    const auto   &op = scene.operating;
     auto &p                = s.parameters;
     p.stiffness            = stiffness_table_for(scene);
     p.effects.backlash     = scene.effects.backlash == "on";
@@ -77,7 +194,6 @@ namespace hertzgear
     // Operating/backlash_mm is the total backlash along the line of action: b_c is half of it.
     p.half_backlash_m      = 0.5e-3 * op.backlash_mm;
     s.speed_rpm            = op.speed_rpm;
-    HG_REQUIRE_INPUT(op.speed_rpm > 0.0, "Operating/speed_rpm must be > 0 for the dynamics");
     p.mesh_frequency_rad_per_s = 2.0 * M_PI * scene.pinion.teeth * op.speed_rpm / 60.0;
     p.alpha_s_per_m            = d.alpha_s_per_m;
     p.restitution_coefficient  = d.restitution_coefficient;
@@ -85,26 +201,10 @@ namespace hertzgear
       dynamics::equivalent_mesh_stiffness(p.stiffness, p.effects.hertzian_layer, p.static_force_N);
     p.damping_N_s_per_m = d.damping_from == "ratio" ? dynamics::damping_of_ratio(p, d.damping_ratio) :
                                                       d.damping_coefficient_N_s_per_m;
-    if (p.damping_N_s_per_m == 0.0 && p.effects.hertzian_layer == dynamics::HertzianLayer::dynamic)
-      HG_REQUIRE_INPUT(d.integrator == "ida",
-                       "the mesh damping c is 0, which makes the penetration equation of the "
-                       "dynamic Hertzian layer algebraic (a DAE): use Dynamics/integrator = ida, "
-                       "or give c > 0");
-
-    auto &r                          = s.run;
-    r.integrator.kind                = dynamics::integrator_kind_from_name(d.integrator);
-    r.integrator.relative_tolerance  = d.relative_tolerance;
-    HG_REQUIRE_INPUT(d.radau_stages == 0 || (d.radau_stages >= 3 && d.radau_stages % 2 == 1),
-                     "Dynamics/radau_stages = ", d.radau_stages, " must be 0 (by the tolerance) or "
-                     "3, 5, 7 or 9");
-    r.integrator.stages              = d.radau_stages;
-    r.integrator.absolute_tolerance  = d.absolute_tolerance_m;
-    r.periods                        = d.periods;
-    r.transient_periods              = d.transient_periods;
-    r.samples_per_period             = d.samples_per_period;
-    r.steps_per_period               = d.steps_per_period;
-    HG_REQUIRE_INPUT(r.periods > r.transient_periods, "Dynamics/periods = ", r.periods,
-                     " must exceed Dynamics/transient_periods = ", r.transient_periods);
+    check_damping(scene, p.damping_N_s_per_m);
+    s.run = run_settings(scene);
+    // The model's own checks (an effect the table cannot serve, ...) here, before any stage runs.
+    dynamics::GearPairModel{s.parameters};
     return s;
   }
 
@@ -144,40 +244,31 @@ namespace hertzgear
 
   ResponseFamily response_family(const Scene &scene, const DynamicsSetup &setup)
   {
-    ResponseFamily f;
+    ResponseFamily f    = response_range(scene);
     const auto    &base = setup.parameters;
-    const auto    &r    = scene.response;
     const auto    &d    = scene.dynamics;
-    f.column            = r.parameter;
-    if (r.parameter == "speed_rpm")
-      {
-        f.key    = "Operating/speed_rpm";
-        f.min    = scene.sweep.speed_min_rpm;
-        f.max    = scene.sweep.speed_max_rpm;
-        f.family = dynamics::speed_family(base, setup.speed_rpm);
-      }
-    else if (r.parameter == "torque_Nm")
-      {
-        f.key    = "Operating/torque_Nm";
-        f.min    = r.torque_min_Nm;
-        f.max    = r.torque_max_Nm;
-        f.family = dynamics::torque_family(base, setup.pinion_base_radius_m,
-                                           d.damping_from == "ratio" ?
-                                             std::optional<double>(d.damping_ratio) :
-                                             std::nullopt);
-      }
+    if (f.column == "speed_rpm")
+      f.family = dynamics::speed_family(base, setup.speed_rpm);
+    else if (f.column == "torque_Nm")
+      f.family = dynamics::torque_family(base, setup.pinion_base_radius_m,
+                                         d.damping_from == "ratio" ?
+                                           std::optional<double>(d.damping_ratio) :
+                                           std::nullopt);
     else
-      {
-        HG_REQUIRE_INPUT(r.parameter == "damping_ratio", "Response/parameter = ", r.parameter,
-                         " is not one of speed_rpm, torque_Nm, damping_ratio");
-        HG_REQUIRE_INPUT(d.damping_from == "ratio",
-                         "Response/parameter = damping_ratio needs Dynamics/damping_from = ratio "
-                         "(the scene gives the damping as a coefficient)");
-        f.key    = "Dynamics/damping_ratio";
-        f.min    = r.damping_ratio_min;
-        f.max    = r.damping_ratio_max;
-        f.family = dynamics::damping_ratio_family(base);
-      }
+      f.family = dynamics::damping_ratio_family(base);
     return f;
+  }
+
+  dynamics::ContinuationSettings continuation_settings(const Scene &scene, const DynamicsSetup &setup,
+                                                       const ResponseFamily &family)
+  {
+    return continuation_settings_of(scene, setup.run, family);
+  }
+
+  void check_response_scene(Scene scene, const bool speed_sweep)
+  {
+    if (speed_sweep)
+      scene.response.parameter = "speed_rpm";
+    continuation_settings_of(scene, run_settings(scene), response_range(scene));
   }
 } // namespace hertzgear

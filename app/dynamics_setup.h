@@ -31,8 +31,15 @@ namespace hertzgear
   // how to proceed.
   dynamics::StiffnessTable stiffness_table_for(const Scene &scene);
 
-  // Throws InputError for a scene the dynamics cannot run (unknown source, c = 0 without ida...).
+  // Throws InputError for a scene the dynamics cannot run (unknown source, c = 0 without ida, an
+  // effect the table cannot serve such as Effects/ste_excitation = table without unloaded STE:
+  // every check of the gear-pair model is made here).
   DynamicsSetup make_dynamics_setup(const Scene &scene);
+
+  // The checks of make_dynamics_setup that need no stiffness table (centre distance, speed,
+  // integrator settings, periods): for a scene whose table the stiffness stage makes, so that
+  // they run before any folder is made.
+  void check_dynamics_scene(const Scene &scene);
 
   // The continuation parameter of Response/parameter as a family of models (speed: the mesh
   // frequency; torque: F_0 = T / r_b1 and, with Dynamics/damping_from = ratio, the damping of
@@ -46,6 +53,16 @@ namespace hertzgear
     double                    min = 0, max = 0;
   };
   ResponseFamily response_family(const Scene &scene, const DynamicsSetup &setup);
+
+  // The continuation settings of Response/* for the family's range, checked: an integrator that
+  // can shoot (not rk4), Response/newton_tolerance at least 10 Dynamics/relative_tolerance, and
+  // the settings check of dynamics/continuation.h. Throws InputError naming the key.
+  dynamics::ContinuationSettings continuation_settings(const Scene &scene, const DynamicsSetup &setup,
+                                                       const ResponseFamily &family);
+
+  // The checks of continuation_settings on the scene alone, before any table is read (`check`
+  // and `run` for Sweep/mode = shooting, with `speed_sweep`: in speed over the sweep's range).
+  void check_response_scene(Scene scene, bool speed_sweep);
 
   // Dynamics/initial_state (static equilibrium or the given values) in SI units.
   dynamics::InitialState initial_state(const Scene &scene);

@@ -12,6 +12,7 @@
 #include "common/hash.h"
 #include "common/processes.h"
 #include "common/progress.h"
+#include "stiffness/iso6336.h"
 
 #include <algorithm>
 #include <map>
@@ -352,10 +353,39 @@ namespace hertzgear
 
   void check_run_inputs(const Scene &scene)
   {
-    make_pair(scene);
+    const meshing::PairKinematics pair = make_pair(scene);
     check_stiffness_input(scene);
-    if (!stiffness_source(scene).is_stage())
-      make_dynamics_setup(scene);
+    const auto &source = stiffness_source(scene);
+    if (!source.is_stage())
+      make_dynamics_setup(scene); // reads the table: every check of the dynamics
+    else
+      {
+        // The table is the stiffness stage's: what the dynamics checks without it, and whether
+        // the stage's table will hold what the effects need.
+        check_dynamics_scene(scene);
+        HG_REQUIRE_INPUT(scene.effects.ste_excitation != "table" || source.tabulates_unloaded_ste(),
+                         "Effects/ste_excitation = table needs the unloaded STE in the stiffness "
+                         "table, which Stiffness/source = ", source.name(),
+                         " does not compute (the fem source does); set Effects/ste_excitation = "
+                         "off or take the STE from a table with Stiffness/source = table");
+      }
+    if (scene.sweep.enabled && scene.sweep.mode == "shooting")
+      check_response_scene(scene, true); // the sweep stage's Response/* checks
+    warn_implausible_load(scene, pair);
+  }
+
+  void warn_implausible_load(const Scene &scene, const meshing::PairKinematics &pair)
+  {
+    const auto s = stiffness::nominal_contact_stress(pair, scene.pinion_material,
+                                                     scene.gear_material, scene.operating.torque_Nm);
+    if (s.sigma_H0_MPa > stiffness::implausible_contact_stress_MPa)
+      progress_line("check",
+                    msg("warning: Operating/torque_Nm = ", scene.operating.torque_Nm,
+                        " gives a nominal contact stress sigma_H0 = ", s.sigma_H0_MPa,
+                        " MPa (ISO 6336-2; specific load F_t/b = ", s.specific_load_N_per_mm,
+                        " N/mm), above the ", stiffness::implausible_contact_stress_MPa,
+                        " MPa that no gear steel carries even under static load: the results "
+                        "are those of linear elasticity far outside a gear's range"));
   }
 
   std::vector<StageOutcome> run_pipeline(const Scene &scene, const fs::path &out,

@@ -17,6 +17,7 @@
 // behind; a stage is reused only when its key matches and every artifact verifies.
 #include "app/scene.h"
 #include "common/stage_cache.h"
+#include "meshing/pair_kinematics.h"
 
 #include <nlohmann/json.hpp>
 
@@ -42,7 +43,15 @@ namespace hertzgear
   // the geometry of the pair (undercut, pointed tip, interference, contact ratio, ...), the input
   // of the stiffness source, and for a source the dynamics reads directly (table, fourier) the
   // whole dynamics set-up with its table. Throws InputError naming the key.
+  // Also: the dynamics checks that need no table when the stiffness stage makes it, whether that
+  // table holds what the effects need (the unloaded STE of Effects/ste_excitation = table), the
+  // Response/* checks of a shooting sweep (Sweep/mode = shooting), and a warning line (not an
+  // error) for an implausible load (warn_implausible_load).
   void check_run_inputs(const Scene &scene);
+
+  // A warning line on stderr when Operating/torque_Nm gives the pair a nominal contact stress
+  // sigma_H0 of ISO 6336-2 above stiffness::implausible_contact_stress_MPa (3000 MPa).
+  void warn_implausible_load(const Scene &scene, const meshing::PairKinematics &pair);
 
   // Runs the pipeline of `scene` into `out` and returns what ran; run.json records it too. The
   // caller has made the checks (check_run_inputs) and holds `out` (CommandStart::begin). Under

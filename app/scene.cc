@@ -7,6 +7,7 @@
 #include "common/hash.h"
 #include "common/input_file.h"
 #include "common/parameter_file.h"
+#include "common/shown_text.h"
 #include "meshing/gear_geometry.h"
 #include "stiffness/registry.h"
 
@@ -500,25 +501,6 @@ namespace hertzgear
     }
 
 
-    // User text as a message shows it: control and non-ASCII bytes as \xNN, and at most 80
-    // characters with the length of the rest, so that a message stays a line.
-    std::string shown(const std::string &text)
-    {
-      std::string out;
-      for (const unsigned char c : text.substr(0, 80))
-        if (c < 0x20 || c >= 0x7f)
-          {
-            char code[8];
-            std::snprintf(code, sizeof(code), "\\x%02x", c);
-            out += code;
-          }
-        else
-          out += static_cast<char>(c);
-      if (text.size() > 80)
-        out += msg("... (", text.size(), " characters)");
-      return out;
-    }
-
     void apply_override(SceneSchema &schema, const std::string &full_text)
     {
       const std::string text = shown(full_text);
@@ -541,6 +523,10 @@ namespace hertzgear
       HG_REQUIRE_INPUT(entry != nullptr, "--set \"", text, "\": unknown key \"", shown(key),
                        "\" in section \"", shown(section), "\" (see `hertzgear defaults`)");
       const std::string value = trim(full_text.substr(eq + 1));
+      HG_REQUIRE_INPUT(value.size() <= ParameterFile::max_value_length, "--set \"", text, "\": ",
+                       section, "/", key, ": the value is ", value.size(),
+                       " characters long, more than the ", ParameterFile::max_value_length,
+                       " characters a scene value can have");
 
       HG_REQUIRE_INPUT(entry->pattern().match(value), "--set \"", text, "\": value \"",
                        shown(value), "\" for ", section, "/", key,

@@ -1,9 +1,11 @@
 #include "common/input_file.h"
 
 #include "common/errors.h"
+#include "common/shown_text.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -37,8 +39,46 @@ namespace hertzgear
     return ss.str();
   }
 
+  std::size_t json_nesting_depth(const std::string &text)
+  {
+    std::size_t depth = 0, deepest = 0;
+    bool        in_string = false, escaped = false;
+    for (const char c : text)
+      if (in_string)
+        {
+          if (escaped)
+            escaped = false;
+          else if (c == '\\')
+            escaped = true;
+          else if (c == '"')
+            in_string = false;
+        }
+      else if (c == '"')
+        in_string = true;
+      else if (c == '[' || c == '{')
+        deepest = std::max(deepest, ++depth);
+      else if ((c == ']' || c == '}') && depth > 0)
+        --depth;
+    return deepest;
+  }
+
   nlohmann::json read_json_file(const fs::path &file, const std::string &what)
   {
+    std::string text;
+    {
+      std::ifstream in(file, std::ios::binary);
+      HG_REQUIRE_INPUT(in.good(), what, " ", file.string(), ": cannot be read (", std::strerror(errno), ")");
+      std::ostringstream ss;
+      ss << in.rdbuf();
+      HG_REQUIRE_INPUT(!in.bad(), what, " ", file.string(), ": read error");
+      text = ss.str();
+    }
+    // Converting a tree recurses once per level: a bound here keeps a hostile file from
+    // exhausting the stack.
+    const std::size_t depth = json_nesting_depth(text);
+    HG_REQUIRE_INPUT(depth <= max_json_nesting, what, " ", file.string(), ": nested ", depth,
+                     " levels deep, more than the ", max_json_nesting,
+                     " levels such a file can have");
     try
       {
         // The keys of the objects open at this point of the parse.
@@ -56,12 +96,12 @@ namespace hertzgear
                                  "\" appears twice in one object (which one is meant?)"));
           return true;
         };
-        std::ifstream in(file);
-        return nlohmann::json::parse(in, no_duplicates);
+        return nlohmann::json::parse(text, no_duplicates);
       }
     catch (const nlohmann::json::exception &e)
       {
-        throw InputError(msg(what, " ", file.string(), ": invalid JSON: ", e.what()));
+        // nlohmann quotes the last token read whole, which may be a string of megabytes.
+        throw InputError(msg(what, " ", file.string(), ": invalid JSON: ", shown(e.what(), 300)));
       }
   }
 } // namespace hertzgear

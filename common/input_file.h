@@ -16,8 +16,17 @@ namespace hertzgear
   std::string read_input_file(const std::filesystem::path &file, const std::string &what,
                               std::uintmax_t max_bytes);
 
-  // The JSON text of `file`, read strictly: a key twice in one object, which nlohmann would
-  // silently keep the last of, is refused naming it. Throws InputError "<what> <file>: ..." for
-  // a duplicate key or invalid JSON.
+  // The deepest nesting of arrays and objects in JSON text (0 for a scalar), counted by a scan
+  // that converts nothing, so that it can bound the nesting before any recursive step runs.
+  std::size_t json_nesting_depth(const std::string &text);
+
+  // The nesting a JSON file the user names may have: a scene nests 4 levels (section,
+  // subsection, key, {"value": ...}), a stiffness table 3.
+  constexpr std::size_t max_json_nesting = 64;
+
+  // The JSON text of `file`, read strictly: nested at most max_json_nesting levels deep (a
+  // deeper file is refused naming its depth before it is parsed), and a key twice in one object,
+  // which nlohmann would silently keep the last of, is refused naming it. Throws InputError
+  // "<what> <file>: ..." for too deep a nesting, a duplicate key or invalid JSON.
   nlohmann::json read_json_file(const std::filesystem::path &file, const std::string &what);
 } // namespace hertzgear

@@ -1,5 +1,6 @@
 // Parameter file: patterns, declaration, reading and printing (see parameter_file.h).
 #include "common/parameter_file.h"
+#include "common/shown_text.h"
 
 #include <nlohmann/json.hpp>
 
@@ -137,6 +138,14 @@ namespace hertzgear
     {
       const auto u = static_cast<unsigned char>(c);
       return (u < 0x20 && c != '\t') || u == 0x7f;
+    }
+
+    // The refusal of a value longer than ParameterFile::max_value_length, naming the key.
+    std::string value_too_long(const std::string &name, const std::size_t length,
+                               const std::string &what = "value")
+    {
+      return msg(name, ": the ", what, " is ", length, " characters long, more than the ",
+                 ParameterFile::max_value_length, " characters a scene ", what, " can have");
     }
   } // namespace
 
@@ -454,6 +463,8 @@ namespace hertzgear
   {
     const std::string name =
       entry.section_path.empty() ? entry.name : entry.section_path + "/" + entry.name;
+    if (value.size() > max_value_length)
+      throw ParameterFileError(source, line, value_too_long(name, value.size()));
     for (const char c : value)
       if (is_control(c))
         throw ParameterFileError(source, line,
@@ -461,12 +472,12 @@ namespace hertzgear
                                    hex_code(c));
     if (value.find('#') != std::string::npos)
       throw ParameterFileError(source, line,
-                               name + " = \"" + value +
+                               name + " = \"" + shown(value) +
                                  "\": a value cannot contain '#', which starts a comment in a "
                                  "parameter file");
     if (!entry.allowed->match(value))
       throw ParameterFileError(source, line,
-                               name + " = \"" + value + "\" is not allowed; allowed: " +
+                               name + " = \"" + shown(value) + "\" is not allowed; allowed: " +
                                  entry.allowed->description());
     try
       {
@@ -474,7 +485,7 @@ namespace hertzgear
       }
     catch (const std::exception &e)
       {
-        throw ParameterFileError(source, line, name + " = \"" + value + "\": " + e.what());
+        throw ParameterFileError(source, line, name + " = \"" + shown(value) + "\": " + e.what());
       }
     entry.value = value;
   }
@@ -520,14 +531,14 @@ namespace hertzgear
               fail("\"" + word + "\" without a subsection name");
             Section *sub = current->subsection(rest);
             if (sub == nullptr)
-              fail("no subsection \"" + rest + "\" is declared " + current->where());
+              fail("no subsection \"" + shown(rest) + "\" is declared " + current->where());
             open.push_back({current, n});
             current = sub;
           }
         else if (word == "end" || word == "END")
           {
             if (!rest.empty())
-              fail("unexpected \"" + rest + "\" after \"" + word + "\"");
+              fail("unexpected \"" + shown(rest) + "\" after \"" + word + "\"");
             if (open.empty())
               fail("\"" + word + "\" without an open subsection");
             current = open.back().section;
@@ -537,12 +548,12 @@ namespace hertzgear
           {
             const auto eq = rest.find('=');
             if (eq == std::string::npos)
-              fail("expected \"set KEY = VALUE\", found \"" + line + "\"");
+              fail("expected \"set KEY = VALUE\", found \"" + shown(line) + "\"");
             const std::string key   = trim(rest.substr(0, eq));
             const std::string value = trim(rest.substr(eq + 1));
             Entry            *entry = current->entry(key);
             if (entry == nullptr)
-              fail("no entry \"" + key + "\" is declared " + current->where());
+              fail("no entry \"" + shown(key) + "\" is declared " + current->where());
             const auto before = set_on_line.find(entry);
             if (before != set_on_line.end())
               fail((current->parent == nullptr ? key : current->path() + "/" + key) +
@@ -552,7 +563,7 @@ namespace hertzgear
             set_on_line[entry] = n;
           }
         else
-          fail("cannot read \"" + line +
+          fail("cannot read \"" + shown(line) +
                "\": expected \"subsection NAME\", \"set KEY = VALUE\" or \"end\"");
       }
     if (!open.empty())
@@ -594,12 +605,14 @@ namespace hertzgear
       // A JSON string may hold what the .prm text cannot: a newline would start a new entry or
       // subsection, '#' a comment. Refused here, naming the key, before any text is made.
       const auto plain = [&](const std::string &key, const std::string &text, const char *what) {
+        if (text.size() > ParameterFile::max_value_length)
+          throw ParameterFileError(source, 0, value_too_long("\"" + shown(key) + "\"", text.size(), what));
         for (const char c : text)
           if (is_control(c))
-            throw ParameterFileError(source, 0, msg("\"", key, "\": the ", what,
+            throw ParameterFileError(source, 0, msg("\"", shown(key), "\": the ", what,
                                                     " contains the control character ", hex_code(c)));
         if (text.find('#') != std::string::npos)
-          throw ParameterFileError(source, 0, msg("\"", key, "\": the ", what, " \"", text,
+          throw ParameterFileError(source, 0, msg("\"", shown(key), "\": the ", what, " \"", shown(text),
                                                   "\" contains '#', which starts a comment in a "
                                                   "parameter file"));
         return text;
@@ -691,9 +704,9 @@ namespace hertzgear
     Entry *entry = find_entry(section, key);
     if (entry == nullptr)
       throw ParameterFileError("", 0,
-                               "no entry \"" + key + "\" is declared " +
+                               "no entry \"" + shown(key) + "\" is declared " +
                                  (section.empty() ? std::string("at the top level") :
-                                                    "in subsection \"" + section + "\""));
+                                                    "in subsection \"" + shown(section) + "\""));
     assign(*entry, value, "", 0);
   }
 

@@ -14,6 +14,10 @@
 // variable; errors name the source, the line and the key. Printing gives the documented form
 // (help texts as comments, `# default:` where a value differs) or a short form for hashes.
 //
+// A value is at most ParameterFile::max_value_length characters: a longer one is refused naming its
+// key and its length before it is checked or converted, and messages quote values, keys and lines
+// cut to their first characters with their length (shown(), common/errors.h).
+//
 // Keywords are `subsection`, `set` and `end` (or all upper case). Tabs count as spaces; a line
 // ending in CR LF is read as ending in LF. Refused: a key set twice in one file, an `end` without
 // an open subsection, a subsection without its `end`, a control character other than tab before
@@ -171,6 +175,10 @@ namespace hertzgear
       declaration,
       alphabetical // by name, subsections after entries at each level
     };
+
+    // The longest value an entry takes, in characters: four times the longest path (4096) a file
+    // entry may hold and far above the longest list (64 numbers of at most 25 characters each).
+    static constexpr std::size_t max_value_length = 16384;
 
     ParameterFile();
     ~ParameterFile();

@@ -62,6 +62,24 @@ namespace hertzgear
       return out;
     }
 
+    // The cache folder's name is reserved and its content disposable: anything else under that
+    // name (a regular file, a link, a FIFO) is removed, the link itself and not its target, with
+    // a progress line, so that the manifests can be written and never land outside the folder.
+    void reclaim_cache_folder(const fs::path &out)
+    {
+      const fs::path  folder = out / cache_folder;
+      std::error_code ec;
+      const auto      status = fs::symlink_status(folder, ec);
+      if (ec || !fs::exists(status) || fs::is_directory(status))
+        return;
+      const char *kind = fs::is_symlink(status)      ? "symbolic link" :
+                         fs::is_regular_file(status) ? "regular file" :
+                                                       "special file";
+      fs::remove(folder);
+      progress_line("run", msg(folder.string(), " was a ", kind,
+                               ", not the cache folder: removed (the name is reserved for the "
+                               "cache of hertzgear run, whose content is disposable)"));
+    }
   } // namespace
 
   // The code that produced an artifact. A clean checkout is named by its version and git
@@ -269,6 +287,7 @@ namespace hertzgear
                                const std::string                               &parameters_hash,
                                const std::function<std::vector<std::string>()> &run)
   {
+    reclaim_cache_folder(out);
     CachedStage  c;
     StageOutcome &o          = c.outcome;
     o.stage                  = stage;

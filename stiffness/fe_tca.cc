@@ -943,6 +943,7 @@ namespace hertzgear::stiffness
         : StiffnessSource("fem", "meshing (gmsh) and FE contact over the mesh cycle (deal.II)")
       {}
       bool uses_fe() const override { return true; }
+      bool tabulates_unloaded_ste() const override { return true; }
 
       void check(const StiffnessInput &input) const override
       {
@@ -952,6 +953,26 @@ namespace hertzgear::stiffness
                                                                  "analysis needs a positive torque"));
         if (fe.dimension != 3 && (input.pair.pinion.crowning_mm != 0 || input.pair.gear.crowning_mm != 0))
           throw ParameterError("dimension", msg(fe.dimension, " cannot represent lead crowning; use 3"));
+        // The plane-strain model has one face column at mid-face, where a misalignment or a lead
+        // modification (each varying along the face width) removes nothing: it would be ignored.
+        if (fe.dimension != 3)
+          {
+            const std::pair<const char *, double> along_face[] = {
+              {"mesh_misalignment_mm", input.pair.mesh_misalignment_mm},
+              {"axis_inclination_mm", input.pair.axis_inclination_mm},
+              {"axis_deviation_mm", input.pair.axis_deviation_mm},
+              {"pinion.helix_slope_deviation_mm", input.pair.pinion.helix_slope_deviation_mm},
+              {"gear.helix_slope_deviation_mm", input.pair.gear.helix_slope_deviation_mm},
+              {"pinion.lead_end_relief_mm", input.pair.pinion.lead_end_relief_mm},
+              {"gear.lead_end_relief_mm", input.pair.gear.lead_end_relief_mm}};
+            for (const auto &[field, value_mm] : along_face)
+              if (value_mm != 0)
+                throw ParameterError("dimension",
+                                     msg(fe.dimension, " cannot represent {", field, "} = ",
+                                         value_mm * 1e3, " um, which varies along the face width: "
+                                         "misalignment and lead modifications need the 3D model; "
+                                         "use 3"));
+          }
         if (fe.body_model == "full-gear" && fe.linear_solver != "direct")
           throw ParameterError("linear_solver",
                                msg(fe.linear_solver, ": the full-gear body model ({body_model}) takes "

@@ -42,4 +42,28 @@ namespace hertzgear::stiffness
     s.within_validity           = eps >= 1.2;
     return s;
   }
+
+  NominalContactStress nominal_contact_stress(const meshing::PairKinematics &pair,
+                                              const Material &pinion, const Material &gear,
+                                              const double pinion_torque_Nm)
+  {
+    const meshing::GearParameters &p1 = pair.pinion().parameters(), &p2 = pair.gear().parameters();
+    const double d1      = p1.module_mm * p1.teeth;
+    const double b       = std::min(p1.face_width_mm, p2.face_width_mm);
+    const double u       = double(p2.teeth) / p1.teeth;
+    const double alpha   = p1.pressure_angle_rad;
+    const double alpha_w = pair.operating_pressure_angle_rad();
+    const double Z_H     = std::sqrt(2 * std::cos(alpha_w) /
+                                 (std::cos(alpha) * std::cos(alpha) * std::sin(alpha_w)));
+    const double Z_E     = std::sqrt(1 / (pi * ((1 - pinion.poisson_ratio * pinion.poisson_ratio) /
+                                              pinion.youngs_modulus_MPa +
+                                            (1 - gear.poisson_ratio * gear.poisson_ratio) /
+                                              gear.youngs_modulus_MPa)));
+    const double Z_eps   = std::sqrt(std::max(0.0, 4 - pair.contact_ratio()) / 3);
+    NominalContactStress s;
+    s.tangential_force_N     = 2000 * std::abs(pinion_torque_Nm) / d1;
+    s.specific_load_N_per_mm = s.tangential_force_N / b;
+    s.sigma_H0_MPa = Z_H * Z_E * Z_eps * std::sqrt(s.tangential_force_N / (d1 * b) * (u + 1) / u);
+    return s;
+  }
 } // namespace hertzgear::stiffness

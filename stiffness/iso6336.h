@@ -13,6 +13,7 @@
 //   C_B      = [1 + 0.5 (1.2 - h_fP/m_n)] [1 - 0.02 (20 deg - alpha_Pn)], averaged over both
 //              gears when their basic racks differ (basic rack factor)
 //   c_gamma_alpha = c' (0.75 eps_alpha + 0.25)                   (mesh stiffness, eps_alpha >= 1.2)
+#include "common/material.h"
 #include "meshing/pair_kinematics.h"
 
 #include <nlohmann/json.hpp>
@@ -42,4 +43,26 @@ namespace hertzgear::stiffness
   // `pinion_torque_Nm` gives F_t = 2000 T1 / d1 on the reference circle (K_A = 1); the face
   // width is the smaller of both. Solid blanks (C_R = 1).
   Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, double pinion_torque_Nm);
+
+  // The nominal contact stress of ISO 6336-2 (method B) at the pitch point of a spur pair,
+  //   sigma_H0 = Z_H Z_E Z_eps sqrt(F_t / (d1 b) (u + 1) / u)   [MPa]
+  // with F_t = 2000 |T1| / d1 on the reference circle (K factors 1), d1 = m z1, b the smaller face
+  // width, u = z2 / z1, the zone factor Z_H = sqrt(2 cos(alpha_w) / (cos^2(alpha) sin(alpha_w))),
+  // the elasticity factor Z_E = sqrt(1 / (pi ((1 - nu1^2) / E1 + (1 - nu2^2) / E2))) and the
+  // contact ratio factor Z_eps = sqrt((4 - eps_alpha) / 3).
+  struct NominalContactStress
+  {
+    double sigma_H0_MPa                = 0;
+    double tangential_force_N          = 0; // F_t
+    double specific_load_N_per_mm      = 0; // F_t / b
+  };
+  NominalContactStress nominal_contact_stress(const meshing::PairKinematics &pair,
+                                              const Material &pinion, const Material &gear,
+                                              double pinion_torque_Nm);
+
+  // The nominal contact stress above which a load is implausible for any gear: 3000 MPa, above
+  // the largest permissible contact stress of ISO 6336 for case-hardened steel even under static
+  // load (sigma_Hlim = 1650 MPa of ISO 6336-5, times the static life factor Z_NT = 1.6 of
+  // ISO 6336-2: 2640 MPa).
+  constexpr double implausible_contact_stress_MPa = 3000.0;
 } // namespace hertzgear::stiffness

@@ -164,6 +164,9 @@ namespace hertzgear::stiffness
     virtual bool uses_fe() const { return false; }
     // Whether this build can compute it (fem needs -DHERTZGEAR_WITH_FEM=ON).
     virtual bool available() const { return true; }
+    // Whether a stage source's table holds the unloaded STE (unloaded_ste_m) that
+    // Effects/ste_excitation = table needs (for a source read directly, its table file says).
+    virtual bool tabulates_unloaded_ste() const { return false; }
     // Checks the input before any work or file (throws ParameterError naming the field; other
     // fields a message names are written {field}).
     virtual void check(const StiffnessInput &input) const = 0;

@@ -2,16 +2,23 @@
 // values; each pattern accepts its bounds and refuses what lies beyond; errors name the source,
 // the line and the key; a key set twice, an unbalanced subsection, a control character and a
 // continuation line are refused; the printed form is the documented .prm layout.
+#include "common/input_file.h"
 #include "common/parameter_file.h"
+#include "common/shown_text.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <fstream>
 #include <sstream>
+#include <unistd.h>
 
 using namespace hertzgear;
 using ::testing::HasSubstr;
-namespace P = hertzgear::patterns;
+namespace P  = hertzgear::patterns;
+namespace fs = std::filesystem;
 
 namespace
 {
@@ -491,4 +498,77 @@ TEST(ParameterFile, LongHelpTextsWrapAtWordsWithinSeventyEightColumns)
             "end\n"
             "\n"
             "\n");
+}
+
+TEST(ParameterFileErrors, ValuesLongerThanTheLimitAreRefusedNamingTheKeyAndTheLength)
+{
+  // Requirement: a value of at most ParameterFile::max_value_length characters is read; a longer
+  // one is refused before its pattern is checked or it is converted, naming the key and the
+  // length, without the value itself (the message stays under 1 kB for a value of megabytes).
+  const std::string at_limit(ParameterFile::max_value_length, 'a');
+  Values            v;
+  ParameterFile     prm;
+  declare(prm, v);
+  prm.set("Stiffness", "table_file", at_limit);
+  EXPECT_EQ(v.file, at_limit);
+  const std::string err = parse_error("subsection Sweep\n  set damping_ratio = " +
+                                      std::string(5u << 20, '1') + "\nend\n");
+  EXPECT_THAT(err, HasSubstr("scene.prm, line 2: Sweep/damping_ratio: the value is 5242880 "
+                             "characters long, more than the 16384"));
+  EXPECT_LT(err.size(), 1000u);
+  const std::string json_err = [] {
+    Values        w;
+    ParameterFile p;
+    declare(p, w);
+    try
+      {
+        p.parse_json(nlohmann::json{{"Sweep", {{"damping_ratio", std::string(20000, '1')}}}}, "s.json");
+      }
+    catch (const ParameterFileError &e)
+      {
+        return std::string(e.what());
+      }
+    return std::string("(no error)");
+  }();
+  EXPECT_THAT(json_err, HasSubstr("\"damping_ratio\": the value is 20000 characters long"));
+}
+
+TEST(ParameterFileErrors, MessagesQuoteLongValuesCut)
+{
+  // Requirement: messages quote a value (or a line) by its first 60 characters and its length,
+  // with bytes that are no text as \xNN (common/shown_text.h).
+  const std::string err = parse_error("subsection Gear pair\n subsection Pinion\n  set tip_relief_shape = " +
+                                      std::string(10000, 'q') + "\n end\nend\n");
+  EXPECT_THAT(err, HasSubstr("tip_relief_shape = \"" + std::string(60, 'q') + "... (10000 characters)\""));
+  EXPECT_LT(err.size(), 300u);
+  EXPECT_EQ(shown("ab\001c"), "ab\\x01c");
+  EXPECT_EQ(shown(std::string(61, 'z'), 60), std::string(60, 'z') + "... (61 characters)");
+  EXPECT_EQ(shown(std::string(60, 'z'), 60), std::string(60, 'z'));
+}
+
+TEST(JsonFiles, NestingIsMeasuredWithoutConversionAndBoundedOnReading)
+{
+  // Requirement: the nesting depth of JSON text is counted by a scan (brackets inside strings do
+  // not count), and read_json_file refuses a file nested deeper than max_json_nesting naming the
+  // depth, before the text is parsed (100 000 levels end with an InputError, not a crash).
+  EXPECT_EQ(json_nesting_depth("1"), 0u);
+  EXPECT_EQ(json_nesting_depth(R"({"a": [1, {"b": "[[[{{{\"]]"}]})"), 3u);
+  const fs::path dir = fs::temp_directory_path() / ("hg_json_depth_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path deep = dir / "deep.json";
+  std::ofstream(deep) << std::string(100000, '[') << std::string(100000, ']');
+  try
+    {
+      read_json_file(deep, "scene file");
+      ADD_FAILURE() << "not refused";
+    }
+  catch (const InputError &e)
+    {
+      EXPECT_THAT(e.what(), HasSubstr("nested 100000 levels deep, more than the 64 levels"));
+    }
+  const fs::path fine = dir / "fine.json";
+  std::string    text = std::string(max_json_nesting, '[') + std::string(max_json_nesting, ']');
+  std::ofstream(fine) << text;
+  EXPECT_NO_THROW(read_json_file(fine, "scene file"));
+  fs::remove_all(dir);
 }
