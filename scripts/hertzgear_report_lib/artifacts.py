@@ -266,6 +266,7 @@ class Table:
         table.path = path
         table.names = list(columns)
         table.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
+        table.total_rows, table.first_row, table.envelope = len(table), 0, None
         return table
 
     def __len__(self):
