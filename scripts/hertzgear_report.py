@@ -117,15 +117,20 @@ def write_report_folder(art, out_dir):
         if leftover.startswith(marker):
             shutil.rmtree(os.path.join(parent, leftover), ignore_errors=True)
     partial = os.path.join(parent, "%snew-%d" % (marker, os.getpid()))
+    old = os.path.join(parent, "%sold-%d" % (marker, os.getpid()))
     try:
         figure_files, _ = report.write_report(art, partial)
+        if os.path.isdir(out_dir):
+            os.rename(out_dir, old)
+        try:
+            os.rename(partial, out_dir)
+        except BaseException:
+            if os.path.isdir(old):  # the older report back in its place
+                os.rename(old, out_dir)
+            raise
     except BaseException:
         shutil.rmtree(partial, ignore_errors=True)
         raise
-    old = os.path.join(parent, "%sold-%d" % (marker, os.getpid()))
-    if os.path.isdir(out_dir):
-        os.rename(out_dir, old)
-    os.rename(partial, out_dir)
     shutil.rmtree(old, ignore_errors=True)
     return figure_files
 

@@ -182,7 +182,7 @@ class Table:
         try:
             with open(path, newline="", encoding="utf-8") as f:
                 self._read(f)
-        except UnicodeDecodeError as e:
+        except UnicodeDecodeError:
             raise BadInput("%s is not UTF-8 text: not a hertzgear table" % path)
 
     def _lines(self, f):

@@ -188,7 +188,8 @@ TEST(Report, MissingOrEmptyDirectoryIsBadInput)
 TEST(Report, TableWithoutRowsIsNotedAndTheRestIsDrawn)
 {
   const fs::path dir = make_run("report_corrupt", "--layout nested");
-  std::ofstream(dir / "dynamics" / "spectrum.csv", std::ios::trunc) << "frequency_Hz,amplitude_um\n";
+  std::ofstream(dir / "dynamics" / "spectrum.csv", std::ios::trunc)
+    << "frequency_Hz,amplitude_um\n";
   const auto r = run_hertzgear("report " + quoted(dir));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string html = slurp(dir / "report" / "index.html");
