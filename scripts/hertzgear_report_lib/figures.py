@@ -801,6 +801,10 @@ def poincare_map(sec, art, scene, ts):
             "%s" % (html.escape(source), spread))
 
 
+# The most samples of the steady state the phase portrait draws (1 000 mesh periods of 100).
+PHASE_PORTRAIT_SAMPLES = 100_000
+
+
 def phase_portrait(sec, art, scene, ts):
     if ts is None:
         return
@@ -811,14 +815,18 @@ def phase_portrait(sec, art, scene, ts):
         sec.note("timeseries.csv lacks DTE or its rate: the phase portrait is left out.")
         return
     steady = steady_part(t, scene)
+    # The last PHASE_PORTRAIT_SAMPLES of the steady state: a longer trajectory only retraces the
+    # orbit, while the memory and time of drawing it grow with its length (Agg, 1.5 GB for a
+    # million samples).
+    drawn = np.flatnonzero(steady)[-PHASE_PORTRAIT_SAMPLES:]
     fig, ax = plt.subplots(figsize=(7.4, 4.8))
     xref = reference_of(ts[x][steady])
-    xx, vv = ts[x][steady] - xref, ts[v][steady]
+    xx, vv = ts[x][drawn] - xref, ts[v][drawn]
     ax.plot(xx, vv, lw=0.6, color=COLORS[0], label="steady-state trajectory")
     section = poincare_points(art, scene, ts)
     if section is not None and section[2] is not None:
         tk, xk, vk = section[0], section[1], section[2]
-        keep = tk >= t[steady][0] if tk is not None else slice(-16, None)
+        keep = tk >= t[drawn][0] if tk is not None else slice(-16, None)
         ax.plot(xk[keep] - xref, vk[keep], "o", ms=5, color=COLORS[1],
                 label="Poincaré points", zorder=4)
     mark_backlash(ax, shifted(scene.b_c_um, xref), horizontal=False, near_data=True)
@@ -828,7 +836,19 @@ def phase_portrait(sec, art, scene, ts):
     publish(sec, "phase_portrait.png", fig,
             "Phase portrait (x, ẋ) after the transient. Between the dashed lines "
             "(|x| &lt; b<sub>c</sub>) the teeth fly free and the trajectory is straight in "
-            "time; a period-k orbit closes after k loops.")
+            "time; a period-k orbit closes after k loops." + drawn_part(t, steady, drawn, scene))
+
+
+def drawn_part(t, steady, drawn, scene):
+    """What the caption of the phase portrait says when it draws only the last samples of the
+    steady state."""
+    n_steady = int(np.count_nonzero(steady))
+    if len(drawn) == n_steady:
+        return ""
+    periods = ("%.0f mesh periods, " % ((t[drawn][-1] - t[drawn][0]) * scene.f_mesh_hz)
+               if scene.f_mesh_hz else "")
+    return (" Drawn: the last %d samples of the steady state (%sof %d)."
+            % (len(drawn), periods, n_steady))
 
 
 def loop_data(sec, art, scene, ts):
