@@ -415,11 +415,12 @@ namespace
 } // namespace
 
 // The report shall read a 400 MB timeseries.csv with bounded memory: at most 1 GB of peak
-// resident memory for the whole `hertzgear report` (docs/report.md, "Memory"; the issue this
-// guards against was 11.7 GB), exit 0 and a whole page with the DTE figure, the page saying that
-// the figures draw the last rows. The 1 GB bound: the report holds at most 6 million values of a
-// table (48 MB), Python with numpy and matplotlib takes about 150 MB, drawing a million-point phase
-// portrait a few hundred MB; the measured peak is about 0.5 GB.
+// resident memory for the whole `hertzgear report`, the bound docs/report.md states ("Memory"),
+// with exit 0 and a whole page with every dynamics figure, the page saying that the figures draw
+// the last rows. Why 1 GB holds: the report keeps at most 6 million values of a table (48 MB, a
+// few copies while a figure is drawn), Python with numpy and matplotlib takes about 150 MB, and
+// the phase portrait draws at most 100 000 samples (about 120 MB in Agg); the measured peak is
+// about 0.3 GB (3.8 GB when the whole file was read, and its phase portrait failed in Agg).
 TEST(Report, LargeTimeseriesIsReadWithBoundedMemory)
 {
   const fs::path dir = fresh_temp_dir("report_large_timeseries");
