@@ -169,8 +169,8 @@ class Table:
     Read with bounded memory: a table of more than MAX_TABLE_VALUES values keeps its last rows
     (len(table) of total_rows; the first one kept is row first_row, counted from 0) and the
     envelope of all its rows. BadInput, naming the file, when the table cannot be parsed: no
-    header, a row with more or fewer fields than the header, a line longer than any table has,
-    text that is not UTF-8."""
+    header, a row with more or fewer fields than the header, a last line without its line end
+    (a file cut short), a line longer than any table has, text that is not UTF-8."""
 
     def __init__(self, path):
         self.path = path
@@ -191,6 +191,9 @@ class Table:
             if len(line) > MAX_LINE_CHARS:
                 raise BadInput("%s: line %d is longer than %d characters: not a hertzgear table"
                                % (self.path, number, MAX_LINE_CHARS))
+            if not line.endswith("\n"):  # hertzgear ends every line, the last one too
+                raise BadInput("%s: line %d stops without a line end: a truncated table"
+                               % (self.path, number))
             if line.strip() and not line.lstrip().startswith("#"):
                 yield number, line
 

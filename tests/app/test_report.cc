@@ -491,7 +491,8 @@ TEST(Report, GarbledArtifactIsBadInput)
   // The time series cut after the second field of a row, as an interrupted copy leaves it.
   const std::size_t cut = timeseries.find(',', timeseries.find(',', timeseries.size() / 2) + 1);
   const std::vector<Case> cases = {
-    {"timeseries.csv", timeseries.substr(0, cut + 1), "fields where the header has 6"},
+    {"timeseries.csv", timeseries.substr(0, cut + 1), "stops without a line end: a truncated"},
+    {"timeseries.csv", timeseries + "1,2,3\n", "has 3 fields where the header has 6"},
     {"summary.json", summary.substr(0, summary.size() / 2), "is not valid JSON"},
     {"timeseries.csv", "time_s,speed\n0,1\n1,2\n", "has no DTE column"},
     {"timeseries.csv", timeseries + "\xff\xfe\x01\n", "is not UTF-8 text"},
