@@ -5,7 +5,9 @@
 // The figures are drawn by scripts/hertzgear_report.py (matplotlib, Agg backend). This command
 // finds the script (installed under <prefix>/share/hertzgear/scripts/, or in the source tree of a
 // build), runs it with a Python 3 that has matplotlib, and maps its exit status: 0 success,
-// 2 bad input (no such directory, no artifact), anything else 1.
+// 2 bad input (no such directory, no artifact, an artifact that cannot be parsed, a report folder
+// that cannot be written), anything else 1. The script prints its own one-line message for 1 and
+// 2; this command adds one only for a status the script does not give (killed, no interpreter).
 #include "app/command.h"
 #include "app/run_directory.h"
 #include "app/scripts.h"
@@ -71,6 +73,8 @@ namespace hertzgear
           return exit_success;
         case 2:
           return exit_bad_input; // the script has printed what was wrong with the input
+        case 1:
+          return exit_other; // the script has printed what failed ("report script failed: ...")
         case 127:
           std::cerr << "hertzgear: error: could not run " << args[0]
                     << " (install python3 and python3-matplotlib, or set HERTZGEAR_PYTHON)"

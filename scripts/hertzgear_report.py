@@ -11,14 +11,25 @@ writes PNG figures and index.html into DIR/report/ (or REPORT_DIR). A figure who
 is left out with a note on the page. Every file is written atomically (temporary file in the same
 folder, then os.replace), so an interrupted report leaves no half-written file behind.
 
+Every artifact is read and checked before the first write: a table or JSON file that cannot be
+parsed, a table without a column its figures need, or a report folder that is a file or cannot be
+written ends the report with one line naming the file and exit code 2. Tables are read with
+bounded memory (at most the last million rows of a time series are held, see
+hertzgear_report_lib/artifacts.py).
+
 Needs only Python 3, numpy and matplotlib (Debian: python3-numpy, python3-matplotlib); no network.
-Exit codes: 0 report written, 2 DIR missing or holding no artifact, 1 anything else.
+Exit codes: 0 report written; 2 bad input (DIR missing or holding no artifact, an artifact that
+cannot be parsed, a report folder that cannot be written); 1 anything else, in one line
+"report script failed: ...", with the traceback when the environment variable HERTZGEAR_DEBUG is
+set.
 """
 
 import argparse
+import errno
 import os
 import shutil
 import sys
+import traceback
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 
@@ -59,6 +70,7 @@ def main(argv=None):
                          "a directory\n" % run_dir)
         return artifacts.EXIT_BAD_INPUT
     out_dir = os.path.abspath(args.out or os.path.join(run_dir, "report"))
+    check_report_folder(out_dir)
     art = artifacts.Artifacts(run_dir, out_dir)
     if not art.any():
         sys.stderr.write(
@@ -67,6 +79,7 @@ def main(argv=None):
             % (run_dir, ", ".join(artifacts.ARTIFACT_NAMES),
                ", ".join(f + "/" for f in artifacts.STAGE_FOLDERS if f)))
         return artifacts.EXIT_BAD_INPUT
+    art.check()  # every artifact parsed before the first write
     for warning in art.warnings:
         sys.stderr.write("hertzgear report: warning: %s\n" % warning)
     figure_files = write_report_folder(art, out_dir)
@@ -75,9 +88,28 @@ def main(argv=None):
     return 0
 
 
+def check_report_folder(out_dir):
+    """BadInput unless out_dir is a folder or can be made, in a folder this process can write
+    into (the report is drawn beside it and renamed into place)."""
+    if os.path.lexists(out_dir) and not os.path.isdir(out_dir):
+        raise artifacts.BadInput("the report folder %s is a file, not a folder: remove it or "
+                                 "give another folder with --out" % out_dir)
+    parent = os.path.dirname(out_dir)
+    ancestor = parent
+    while not os.path.lexists(ancestor):
+        ancestor = os.path.dirname(ancestor)
+    if not os.path.isdir(ancestor):
+        raise artifacts.BadInput("the report folder %s cannot be made: %s is a file, not a "
+                                 "folder" % (out_dir, ancestor))
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise artifacts.BadInput("the report folder %s cannot be written: no write permission "
+                                 "in %s" % (out_dir, ancestor))
+
+
 def write_report_folder(art, out_dir):
     """The report is drawn into a hidden folder beside out_dir and swapped in whole when done, so
-    an interrupted report leaves the older report or none, never a page mixing the two."""
+    an interrupted or failed report leaves the older report or none, never a page mixing the
+    two."""
     parent, name = os.path.split(out_dir)
     os.makedirs(parent, exist_ok=True)
     marker = "." + name + artifacts.PARTIAL_MARKER
@@ -85,17 +117,54 @@ def write_report_folder(art, out_dir):
         if leftover.startswith(marker):
             shutil.rmtree(os.path.join(parent, leftover), ignore_errors=True)
     partial = os.path.join(parent, "%snew-%d" % (marker, os.getpid()))
-    figure_files, _ = report.write_report(art, partial)
     old = os.path.join(parent, "%sold-%d" % (marker, os.getpid()))
-    if os.path.isdir(out_dir):
-        os.rename(out_dir, old)
-    os.rename(partial, out_dir)
+    try:
+        figure_files, _ = report.write_report(art, partial)
+        if os.path.isdir(out_dir):
+            os.rename(out_dir, old)
+        try:
+            os.rename(partial, out_dir)
+        except BaseException:
+            if os.path.isdir(old):  # the older report back in its place
+                os.rename(old, out_dir)
+            raise
+    except BaseException:
+        shutil.rmtree(partial, ignore_errors=True)
+        raise
     shutil.rmtree(old, ignore_errors=True)
     return figure_files
 
 
-if __name__ == "__main__":
+def run():
+    """main(), its failures turned into one line on stderr and an exit code: 2 for bad input
+    (and a report folder that cannot be written), 1 for anything unforeseen (its traceback
+    follows when HERTZGEAR_DEBUG is set), 130 when interrupted."""
     try:
-        sys.exit(main())
+        return main()
     except KeyboardInterrupt:
-        sys.exit(130)
+        return 130
+    except artifacts.BadInput as e:
+        sys.stderr.write("hertzgear report: error: %s\n" % e)
+        return artifacts.EXIT_BAD_INPUT
+    except OSError as e:
+        if e.errno in (errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EISDIR):
+            sys.stderr.write("hertzgear report: error: %s%s\n"
+                             % (e.strerror or e, ": " + e.filename if e.filename else ""))
+            return artifacts.EXIT_BAD_INPUT
+        return failed(e)
+    except Exception as e:
+        return failed(e)
+
+
+def failed(e):
+    """One line for an unforeseen failure (the traceback after it with HERTZGEAR_DEBUG set)."""
+    debug = os.environ.get("HERTZGEAR_DEBUG")
+    sys.stderr.write("hertzgear report: error: report script failed: %s: %s%s\n"
+                     % (type(e).__name__, e, "" if debug else " (HERTZGEAR_DEBUG=1 shows where)"))
+    if debug:
+        traceback.print_exc()
+    return 1
+
+
+if __name__ == "__main__":
+    sys.exit(run())

@@ -9,6 +9,7 @@ atomically: a temporary file in the same folder, then os.replace.
 """
 
 import csv
+import itertools
 import json
 import math
 import os
@@ -36,6 +37,27 @@ PARTIAL_MARKER = ".hg-partial-"
 
 class BadInput(Exception):
     """Input the report cannot work with: exit code 2."""
+
+
+# Column name patterns (Table.find) of the time series and the Poincaré section.
+DTE = ("dte_um", "dte")
+NOT_A_RATE = ("rate",)
+TIME = ("time_s", "time", "t_s")
+SPEED = ("speed_rpm", "speed")
+
+# (what, name patterns, excluded names) of the numeric columns each table needs for its figures;
+# a table that lacks one is bad input. The figures find their columns by the same patterns.
+REQUIRED_COLUMNS = {
+    "timeseries.csv": (("time", TIME, ()), ("DTE", DTE, NOT_A_RATE)),
+    "poincare.csv": (("DTE", DTE + ("x_um",), NOT_A_RATE),),
+    "spectrum.csv": (("frequency", ("frequency", "freq", "f_hz"), ()),
+                     ("amplitude", ("amplitude", "amp", "magnitude",
+                                    "re:amplitude|magnitude|psd"), ())),
+    "force_penetration.csv": (("penetration", ("penetration", "delta", "re:penetration"), ()),
+                              ("force", ("mesh_force", "hertz_force", "force", "re:force"), ())),
+    "sweep.csv": (("speed", SPEED, ()), ("RMS", ("rms_dte", "rms"), ())),
+    "bifurcation.csv": (("speed", SPEED, ()), ("Poincaré DTE", ("poincare_dte", "dte"), ())),
+}
 
 
 # --------------------------------------------------------------------------------------------
@@ -86,26 +108,159 @@ def remove_stale_temporaries(directory, age_s=600):
 # Tables, JSON, parameter files
 # --------------------------------------------------------------------------------------------
 
+# The most values of one table held in memory: the last million rows of a six-column time series.
+# A longer table is read as a stream that keeps its last rows up to this bound at full resolution
+# and, of all its rows, the first value, minimum and maximum of each column in ENVELOPE_BUCKETS
+# buckets of consecutive rows (Table.envelope: what an overview of the whole file draws). Lines
+# are read CHUNK_LINES at a time and none may be longer than MAX_LINE_CHARS, so a table costs
+# bounded memory whatever the size of its file (docs/report.md, "Memory").
+MAX_TABLE_VALUES = 6_000_000
+ENVELOPE_BUCKETS = 10_000
+CHUNK_LINES = 50_000
+MAX_LINE_CHARS = 1 << 20
+
+
+def count_newlines(path):
+    """The number of newline characters of a file, read in blocks: a bound on its rows."""
+    n = 0
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 22), b""):
+            n += block.count(b"\n")
+    return n
+
+
+class Envelope:
+    """First value, minimum and maximum of each column over buckets of `bucket` consecutive rows,
+    gathered chunk by chunk (non-numeric columns give NaN)."""
+
+    def __init__(self, bucket):
+        self.bucket = bucket
+        self.carry = None
+        self.parts = {"first": [], "min": [], "max": []}
+
+    def add(self, chunk):
+        cols = np.column_stack([c if c.dtype != object else np.full(len(c), np.nan)
+                                for c in chunk])
+        if self.carry is not None:
+            cols = np.vstack([self.carry, cols])
+        m = len(cols) // self.bucket
+        if m:
+            self._reduce(cols[: m * self.bucket].reshape(m, self.bucket, cols.shape[1]))
+        self.carry = cols[m * self.bucket:]
+
+    def _reduce(self, block):
+        self.parts["first"].append(block[:, 0, :].copy())  # not a view that keeps the block
+        self.parts["min"].append(np.fmin.reduce(block, axis=1))
+        self.parts["max"].append(np.fmax.reduce(block, axis=1))
+
+    def result(self, names):
+        if self.carry is not None and len(self.carry):
+            self._reduce(self.carry[np.newaxis])
+        out = {"rows_per_bucket": self.bucket}
+        for key, parts in self.parts.items():
+            stacked = np.vstack(parts)
+            out[key] = {name: stacked[:, i] for i, name in enumerate(names)}
+        return out
+
+
 class Table:
-    """A CSV table: column name -> numpy array (float where every entry parses, else str)."""
+    """A CSV table: column name -> numpy array (float where every entry parses, else str).
+
+    Read with bounded memory: a table of more than MAX_TABLE_VALUES values keeps its last rows
+    (len(table) of total_rows; the first one kept is row first_row, counted from 0) and the
+    envelope of all its rows. BadInput, naming the file, when the table cannot be parsed: no
+    header, a row with more or fewer fields than the header, a last line without its line end
+    (a file cut short), a line longer than any table has, text that is not UTF-8."""
 
     def __init__(self, path):
         self.path = path
         self.columns = {}
         self.names = []
-        with open(path, newline="", encoding="utf-8") as f:
-            lines = [line for line in f if line.strip() and not line.lstrip().startswith("#")]
-        rows = list(csv.reader(lines))
-        if not rows:
-            raise BadInput("%s is empty" % path)
-        self.names = [n.strip() for n in rows[0]]
-        body = [r for r in rows[1:] if len(r) == len(self.names)]
+        self.total_rows = 0
+        self.first_row = 0
+        self.envelope = None  # {"first"|"min"|"max": {column: array}, "rows_per_bucket": n}
+        try:
+            with open(path, newline="", encoding="utf-8") as f:
+                self._read(f)
+        except UnicodeDecodeError:
+            raise BadInput("%s is not UTF-8 text: not a hertzgear table" % path)
+
+    def _lines(self, f):
+        """(line number, line) of the lines that are neither blank nor comments."""
+        for number, line in enumerate(iter(lambda: f.readline(MAX_LINE_CHARS + 1), ""), 1):
+            if len(line) > MAX_LINE_CHARS:
+                raise BadInput("%s: line %d is longer than %d characters: not a hertzgear table"
+                               % (self.path, number, MAX_LINE_CHARS))
+            if not line.endswith("\n"):  # hertzgear ends every line, the last one too
+                raise BadInput("%s: line %d stops without a line end: a truncated table"
+                               % (self.path, number))
+            if line.strip() and not line.lstrip().startswith("#"):
+                yield number, line
+
+    def _read(self, f):
+        lines = self._lines(f)
+        first = next(lines, None)
+        if first is None:
+            raise BadInput("%s is empty" % self.path)
+        self.names = [n.strip() for n in next(csv.reader([first[1]]))]
+        n_cols = len(self.names)
+        keep = max(1000, MAX_TABLE_VALUES // n_cols)
+        envelope = None
+        # Every row takes at least two characters a column ("0,"): a smaller file cannot hold
+        # more rows than are kept, and is not counted.
+        if os.path.getsize(self.path) > 2 * n_cols * keep:
+            newlines = count_newlines(self.path)
+            if newlines > keep:
+                envelope = Envelope(-(-newlines // ENVELOPE_BUCKETS))
+        tail, tail_rows = [], 0
+        while True:
+            block = list(itertools.islice(lines, CHUNK_LINES))
+            if not block:
+                break
+            chunk = self._parse(block, n_cols)
+            self.total_rows += len(block)
+            if envelope is not None:
+                envelope.add(chunk)
+            tail.append(chunk)
+            tail_rows += len(block)
+            while tail_rows - len(tail[0][0]) >= keep:
+                tail_rows -= len(tail.pop(0)[0])
         for i, name in enumerate(self.names):
-            raw = [r[i].strip() for r in body]
+            parts = [c[i] for c in tail]
+            if any(p.dtype == object for p in parts):
+                parts = [p if p.dtype == object else np.array([repr(float(v)) for v in p],
+                                                              dtype=object) for p in parts]
+            column = np.concatenate(parts) if parts else np.array([])
+            self.columns[name] = column[-keep:]
+        self.first_row = self.total_rows - len(self)
+        if envelope is not None and self.first_row > 0:
+            self.envelope = envelope.result(self.names)
+
+    def _parse(self, block, n_cols):
+        """The columns of the numbered lines `block`: float arrays, or arrays of str for a
+        column with an entry that is not a number (an empty entry is NaN)."""
+        text = [line for _, line in block]
+        try:
+            values = np.loadtxt(text, delimiter=",", dtype=float, ndmin=2, comments=None)
+            if values.shape == (len(text), n_cols):
+                return [np.ascontiguousarray(values[:, i]) for i in range(n_cols)]
+        except ValueError:
+            pass
+        rows = list(csv.reader(text))
+        for (number, _), r in zip(block, rows):
+            if len(r) != n_cols:
+                raise BadInput("%s: line %d has %d fields where the header has %d: a truncated "
+                               "or garbled table" % (self.path, number, len(r), n_cols))
+        if len(rows) != len(block):
+            raise BadInput("%s: a quoted field spans lines: not a hertzgear table" % self.path)
+        out = []
+        for i in range(n_cols):
+            raw = [r[i].strip() for r in rows]
             try:
-                self.columns[name] = np.array([float(v) if v != "" else np.nan for v in raw])
+                out.append(np.array([float(v) if v != "" else np.nan for v in raw]))
             except ValueError:
-                self.columns[name] = np.array(raw, dtype=object)
+                out.append(np.array(raw, dtype=object))
+        return out
 
     @classmethod
     def from_columns(cls, path, columns):
@@ -114,6 +269,7 @@ class Table:
         table.path = path
         table.names = list(columns)
         table.columns = {k: np.asarray(v, dtype=float) for k, v in columns.items()}
+        table.total_rows, table.first_row, table.envelope = len(table), 0, None
         return table
 
     def __len__(self):
@@ -224,8 +380,9 @@ def fnv1a_64_hex(path):
     """The content hash the cache manifests record (common/hash.h: FNV-1a 64, hex)."""
     h = 0xcbf29ce484222325
     with open(path, "rb") as f:
-        for byte in f.read():
-            h = ((h ^ byte) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+        for block in iter(lambda: f.read(1 << 20), b""):  # in blocks: bounded memory
+            for byte in block:
+                h = ((h ^ byte) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
     return "%016x" % h
 
 
@@ -285,6 +442,7 @@ class Artifacts:
         self.accuracy_tables = self._find_accuracy_tables()
         self.notes = []       # problems met while reading, shown on the page
         self._cache = {}
+        self.accuracy_data = {}  # path -> Table of each accuracy table, read by check()
         self.untrusted = []   # artifacts the page shows that no verified manifest covers
         self.warnings = []    # why they are untrusted: on the page and on stderr
         self._check_manifests()
@@ -347,27 +505,72 @@ class Artifacts:
     def rel(self, name):
         return os.path.relpath(self.paths[name], self.run_dir)
 
+    def read(self, path):
+        """The parsed artifact at path: a Table, JSON or the entries of a parameter file;
+        BadInput naming the file when it cannot be parsed."""
+        try:
+            if path.endswith(".csv"):
+                return Table(path)
+            if path.endswith(".json"):
+                try:
+                    return load_json(path)
+                except ValueError as e:  # json.JSONDecodeError
+                    raise BadInput("%s is not valid JSON (%s): a truncated or garbled file"
+                                   % (path, e))
+            return parse_prm(path)
+        except UnicodeDecodeError:
+            raise BadInput("%s is not UTF-8 text: not a hertzgear artifact" % path)
+        except OSError as e:
+            raise BadInput("%s cannot be read: %s" % (path, e.strerror or e))
+
+    def check(self):
+        """Reads every artifact before the report writes anything: BadInput naming the first
+        that cannot be parsed or lacks a column its figures need. A table with a header and no
+        rows costs its figures only (with a note)."""
+        for name in self.paths:
+            self.get(name)
+        for path in self.accuracy_tables:
+            if path not in self.accuracy_data:
+                self.accuracy_data[path] = self.read(path)
+
     def get(self, name):
-        """The parsed artifact, or None when it is absent or unreadable (with a note)."""
+        """The parsed artifact, or None when it is absent or a table without rows (with a note);
+        BadInput naming the file when it cannot be parsed or lacks a column its figures need."""
         if name not in self.paths:
             return None
         if name in self._cache:
             return self._cache[name]
-        path = self.paths[name]
-        try:
-            if name.endswith(".csv"):
-                value = Table(path)
-                if len(value) == 0:
-                    raise BadInput("no data rows")
-            elif name.endswith(".json"):
-                value = load_json(path)
+        value = self.read(self.paths[name])
+        if isinstance(value, Table):
+            if len(value) == 0:
+                self.notes.append("%s holds no data rows: its figures are left out."
+                                  % self.rel(name))
+                value = None
             else:
-                value = parse_prm(path)
-        except Exception as e:  # an unreadable artifact costs its figures, not the report
-            self.notes.append("%s could not be read: %s" % (self.rel(name), e))
-            value = None
+                check_columns(name, value)
+                if value.first_row > 0:
+                    self.notes.append(
+                        "%s has %d rows, more than the report holds in memory: its figures draw "
+                        "its last %d rows, and the overview of the whole history the minimum and "
+                        "maximum of every %d rows." % (self.rel(name), value.total_rows,
+                                                       len(value),
+                                                       value.envelope["rows_per_bucket"]))
         self._cache[name] = value
         return value
+
+
+def check_columns(name, table):
+    """BadInput naming the table when it lacks a numeric column its figures need."""
+    for what, patterns, exclude in REQUIRED_COLUMNS.get(name, ()):
+        column = table.find(*patterns, exclude=exclude)
+        if not column:
+            raise BadInput("%s has no %s column (looked for a name starting with %s; it has %s)"
+                           % (table.path, what, " or ".join(p for p in patterns
+                                                            if not p.startswith("re:")),
+                              ", ".join(table.names)))
+        if not table.numeric(column):
+            raise BadInput("%s: column %s holds entries that are not numbers"
+                           % (table.path, column))
 
 
 # --------------------------------------------------------------------------------------------

@@ -27,9 +27,9 @@ from .artifacts import find_series, is_number
 from .plotting import (COLORS, fourier_value, force_scale, label, mark_backlash, mark_mesh_periods,
                        plt, reference_of, right_axis, save_figure_atomically, scaled, shade_contact,
                        shifted, shifted_label, span_limits, title_and_legend, unit_of)
-from .signals import (DTE, NOT_A_RATE, RATE, TIME, amplitude_spectrum, decimate, distinct_points,
-                      loop_segments, poincare_points, polygon_area, steady_part, steady_window,
-                      time_column, unique_in_order)
+from .signals import (DTE, NOT_A_RATE, RATE, TIME, amplitude_spectrum, distinct_points,
+                      loop_segments, overview, poincare_points, polygon_area, steady_part,
+                      steady_window, time_column, unique_in_order)
 
 
 def publish(sec, name, fig, caption):
@@ -587,10 +587,10 @@ def contact_pattern_scene(sec, lmap):
 # Dynamics
 # --------------------------------------------------------------------------------------------
 
-def dte_overview(ax, t, x, dte, scene):
+def dte_overview(ax, ts, tcol, dte, scene):
     """The whole recorded DTE with both backlash lines in view (unshifted), so that it shows how
     far the motion stays from separation (|x| < b_c) and back-side contact (x < −b_c)."""
-    xd, yd = decimate(t, x)
+    xd, yd = overview(ts, tcol, dte)
     ax.plot(xd, yd, lw=0.6, label="DTE")
     mark_backlash(ax, scene.b_c_um)
     if scene.b_c_um is not None:
@@ -598,8 +598,9 @@ def dte_overview(ax, t, x, dte, scene):
                    label="teeth apart")
     ax.set_ylabel(label("DTE x", dte))
     ax.set_xlabel("time (s)")
-    ax.set_xlim(t[0], t[-1])
-    span = ("the last %.0f mesh periods of the run" % ((t[-1] - t[0]) * scene.f_mesh_hz)
+    t0, t1 = xd[0], ts[tcol][-1]
+    ax.set_xlim(t0, t1)
+    span = ("the last %.0f mesh periods of the run" % ((t1 - t0) * scene.f_mesh_hz)
             if scene.f_mesh_hz else "the recorded window")
     title_and_legend(ax, "DTE x = r$_{b1}$θ$_1$ − r$_{b2}$θ$_2$, %s" % span, ncol=3)
 
@@ -626,7 +627,7 @@ def dte_penetration(sec, scene, ts):
     n_panels = 3 if pen else 2
     fig, axes = plt.subplots(n_panels, 1, figsize=(10, 2.7 * n_panels + 0.4))
     ref = reference_of(ts[dte])
-    dte_overview(axes[0], t, ts[dte], dte, scene)
+    dte_overview(axes[0], ts, ts.find(*TIME), dte, scene)
     tz = t[zoom]
     shade_contact(axes[1], tz, cvals)
     axes[1].plot(tz, ts[dte][zoom] - ref, lw=1.2, label="DTE")
@@ -800,6 +801,10 @@ def poincare_map(sec, art, scene, ts):
             "%s" % (html.escape(source), spread))
 
 
+# The most samples of the steady state the phase portrait draws (1 000 mesh periods of 100).
+PHASE_PORTRAIT_SAMPLES = 100_000
+
+
 def phase_portrait(sec, art, scene, ts):
     if ts is None:
         return
@@ -810,14 +815,18 @@ def phase_portrait(sec, art, scene, ts):
         sec.note("timeseries.csv lacks DTE or its rate: the phase portrait is left out.")
         return
     steady = steady_part(t, scene)
+    # The last PHASE_PORTRAIT_SAMPLES of the steady state: a longer trajectory only retraces the
+    # orbit, while the memory and time of drawing it grow with its length (Agg, 1.5 GB for a
+    # million samples).
+    drawn = np.flatnonzero(steady)[-PHASE_PORTRAIT_SAMPLES:]
     fig, ax = plt.subplots(figsize=(7.4, 4.8))
     xref = reference_of(ts[x][steady])
-    xx, vv = ts[x][steady] - xref, ts[v][steady]
+    xx, vv = ts[x][drawn] - xref, ts[v][drawn]
     ax.plot(xx, vv, lw=0.6, color=COLORS[0], label="steady-state trajectory")
     section = poincare_points(art, scene, ts)
     if section is not None and section[2] is not None:
         tk, xk, vk = section[0], section[1], section[2]
-        keep = tk >= t[steady][0] if tk is not None else slice(-16, None)
+        keep = tk >= t[drawn][0] if tk is not None else slice(-16, None)
         ax.plot(xk[keep] - xref, vk[keep], "o", ms=5, color=COLORS[1],
                 label="Poincaré points", zorder=4)
     mark_backlash(ax, shifted(scene.b_c_um, xref), horizontal=False, near_data=True)
@@ -827,7 +836,19 @@ def phase_portrait(sec, art, scene, ts):
     publish(sec, "phase_portrait.png", fig,
             "Phase portrait (x, ẋ) after the transient. Between the dashed lines "
             "(|x| &lt; b<sub>c</sub>) the teeth fly free and the trajectory is straight in "
-            "time; a period-k orbit closes after k loops.")
+            "time; a period-k orbit closes after k loops." + drawn_part(t, steady, drawn, scene))
+
+
+def drawn_part(t, steady, drawn, scene):
+    """What the caption of the phase portrait says when it draws only the last samples of the
+    steady state."""
+    n_steady = int(np.count_nonzero(steady))
+    if len(drawn) == n_steady:
+        return ""
+    periods = ("%.0f mesh periods, " % ((t[drawn][-1] - t[drawn][0]) * scene.f_mesh_hz)
+               if scene.f_mesh_hz else "")
+    return (" Drawn: the last %d samples of the steady state (%sof %d)."
+            % (len(drawn), periods, n_steady))
 
 
 def loop_data(sec, art, scene, ts):

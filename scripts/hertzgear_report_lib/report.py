@@ -11,7 +11,7 @@ import traceback
 import matplotlib
 
 from . import figures
-from .artifacts import (LoadMap, Scene, Table, remove_stale_temporaries, samples_table,
+from .artifacts import (BadInput, LoadMap, Scene, remove_stale_temporaries, samples_table,
                         write_text_atomically)
 from .html import (Page, csv_details, dynamics_facts, map_table, render_page, response_tables,
                    scene_tables,
@@ -26,12 +26,19 @@ class Report:
         self.page = Page(out_dir)
 
     def attempt(self, sec, what, draw, *args):
-        """draw(sec, *args); a failure costs that figure only and is shown on the page."""
+        """draw(sec, *args); an unforeseen failure costs that figure only and is shown on the
+        page and in one line on stderr (with its traceback when HERTZGEAR_DEBUG is set). Bad
+        input (BadInput) ends the report."""
         try:
             draw(sec, *args)
+        except BadInput:
+            raise
         except Exception as e:
             close_all()
-            sys.stderr.write("hertzgear report: %s failed: %s\n%s" % (what, e, traceback.format_exc()))
+            sys.stderr.write("hertzgear report: warning: the %s could not be drawn: %s: %s\n"
+                             % (what, type(e).__name__, e))
+            if os.environ.get("HERTZGEAR_DEBUG"):
+                traceback.print_exc()
             sec.note("The %s could not be drawn: %s" % (what, html.escape(str(e))))
 
     def stiffness_section(self):
@@ -130,10 +137,10 @@ class Report:
         sec = self.page.section("accuracy", "Accuracy versus cost")
         for i, path in enumerate(self.art.accuracy_tables):
             rel = os.path.relpath(path, self.art.run_dir)
-            try:
-                table = Table(path)
-            except Exception as e:
-                sec.note("%s could not be read: %s" % (html.escape(rel), html.escape(str(e))))
+            table = (self.art.accuracy_data[path] if path in self.art.accuracy_data
+                     else self.art.read(path))
+            if len(table) == 0:
+                sec.note("%s holds no data rows." % html.escape(rel))
                 continue
             self.attempt(sec, "accuracy plot of %s" % rel, figures.work_precision, table, rel, i)
             if len(table) <= 60:

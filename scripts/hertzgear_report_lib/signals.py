@@ -8,13 +8,10 @@ import math
 
 import numpy as np
 
-from .artifacts import BadInput
+from .artifacts import DTE, NOT_A_RATE, TIME, BadInput
 
-# Column patterns of the time series and the Poincaré section (Table.find).
-DTE = ("dte_um", "dte")
-NOT_A_RATE = ("rate",)
+# Column patterns of the DTE rate (Table.find); those of time and DTE are in artifacts.
 RATE = ("dte_rate", "re:rate|velocity")
-TIME = ("time_s", "time", "t_s")
 
 
 def time_column(ts):
@@ -75,6 +72,18 @@ def steady_part(t, scene):
         if mask.sum() > 10:
             return mask
     return t >= t[0] + 0.5 * (t[-1] - t[0])
+
+
+def overview(table, x, y, n_max=20000):
+    """(x, y) of the whole history of columns x, y of a table for one line plot of at most about
+    n_max points: the min/max envelope of table.envelope when the table holds only its last rows,
+    else decimate()."""
+    env = table.envelope
+    if env is None:
+        return decimate(table[x], table[y], n_max)
+    xs = np.repeat(env["first"][x], 2)
+    ys = np.stack([env["min"][y], env["max"][y]], axis=1).ravel()
+    return xs, ys
 
 
 def decimate(x, y, n_max=20000):
