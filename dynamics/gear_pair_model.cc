@@ -79,7 +79,7 @@ namespace hertzgear::dynamics
     return I1 * I2 / (I1 * rb2 * rb2 + I2 * rb1 * rb1);
   }
 
-  double equivalent_mesh_stiffness(const StiffnessTable &table, const HertzianLayer layer,
+  double equivalent_mesh_stiffness(const table::StiffnessTable &table, const HertzianLayer layer,
                                    const double F0)
   {
     const double k = table.k_rest_N_per_m.mean;

@@ -5,7 +5,7 @@
 //   with the Hertzian layer k_h(t) G(delta) + mu H(delta) delta'.
 // State (x, x') without a dynamic Hertzian layer, (x, x', delta) with one. SI units throughout.
 #include "dynamics/ode_system.h"
-#include "dynamics/stiffness_table.h"
+#include "table/stiffness_table.h"
 
 #include <cstdint>
 #include <string>
@@ -52,7 +52,7 @@ namespace hertzgear::dynamics
     double         damping_N_s_per_m          = 0.0; // c of the structural mesh spring
     double         alpha_s_per_m              = 0.26; // Hunt-Crossley
     double         restitution_coefficient    = 0.9; // Lankarani-Nikravesh
-    StiffnessTable stiffness;
+    table::StiffnessTable stiffness;
     Effects        effects;
     // Library option, not a scene effect: k -> infinity, i.e. the Hertzian layer alone
     // (delta = f(x), state (x, x')). Used to check a contact law in isolation.
@@ -66,7 +66,7 @@ namespace hertzgear::dynamics
   // Linearised mesh stiffness at the static load: k in series with the tangent Hertzian stiffness
   // n k_mh delta_s^(n-1), k_mh delta_s^n = F_0. Used for c = 2 zeta sqrt(k_eq m_e). With no load
   // and n > 1 the tangent Hertzian stiffness vanishes; then k alone is used.
-  double equivalent_mesh_stiffness(const StiffnessTable &table, HertzianLayer layer,
+  double equivalent_mesh_stiffness(const table::StiffnessTable &table, HertzianLayer layer,
                                    double static_force_N);
 
   // The mesh damping of a damping ratio zeta, c = 2 zeta sqrt(k_eq m_e), with k_eq the

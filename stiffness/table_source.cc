@@ -73,13 +73,13 @@ namespace hertzgear::stiffness
     }
   } // namespace
 
-  dynamics::StiffnessTable read_table_for(const StiffnessInput &input)
+  table::StiffnessTable read_table_for(const StiffnessInput &input)
   {
     const std::string file = input.table_file.string();
     std::string       text;
     try
       {
-        text = read_input_file(input.table_file, "stiffness table", dynamics::max_table_bytes);
+        text = read_input_file(input.table_file, "stiffness table", table::max_table_bytes);
       }
     catch (const ParameterError &)
       {
@@ -89,11 +89,11 @@ namespace hertzgear::stiffness
       {
         throw ParameterError("table_file", e.what());
       }
-    dynamics::StiffnessTable table;
+    table::StiffnessTable table;
     nlohmann::json           json;
     try
       {
-        table = dynamics::stiffness_table_from_json_text(text, file);
+        table = table::stiffness_table_from_json_text(text, file);
         json  = nlohmann::json::parse(text);
       }
     catch (const InputError &e)
