@@ -137,7 +137,7 @@ namespace hertzgear
     }
   } // namespace
 
-  dynamics::StiffnessTable stiffness_table_for(const Scene &scene)
+  table::StiffnessTable stiffness_table_for(const Scene &scene)
   {
     const auto &source = stiffness_source(scene);
     HG_REQUIRE_INPUT(!source.is_stage(),

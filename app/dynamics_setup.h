@@ -29,7 +29,7 @@ namespace hertzgear
   // The stiffness table the scene asks for. fem and the closed forms (iso6336, hertz-analytic,
   // potential-energy) are produced by the stiffness stage: they raise an InputError that says
   // how to proceed.
-  dynamics::StiffnessTable stiffness_table_for(const Scene &scene);
+  table::StiffnessTable stiffness_table_for(const Scene &scene);
 
   // Throws InputError for a scene the dynamics cannot run (unknown source, c = 0 without ida, an
   // effect the table cannot serve such as Effects/ste_excitation = table without unloaded STE:

@@ -3,8 +3,8 @@
 #   target_link_libraries(my_tool PRIVATE hertzgear::hertzgear_dynamics)
 include(CMakePackageConfigHelpers)
 
-set(_hg_targets hertzgear_common hertzgear_dynamics hertzgear_geometry hertzgear_contact
-                hertzgear_stiffness)
+set(_hg_targets hertzgear_common hertzgear_table hertzgear_dynamics hertzgear_geometry
+                hertzgear_contact hertzgear_stiffness)
 if(HERTZGEAR_WITH_FEM)
   list(APPEND _hg_targets hertzgear_meshing hertzgear_fem hertzgear_dealii hertzgear_gmsh)
   install(TARGETS hertzgear RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
@@ -14,7 +14,7 @@ install(TARGETS ${_hg_targets} EXPORT hertzgearTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-foreach(_dir common dynamics meshing contact stiffness fem)
+foreach(_dir common table dynamics meshing contact stiffness fem)
   if(NOT _dir STREQUAL "fem" OR HERTZGEAR_WITH_FEM)
     install(DIRECTORY ${CMAKE_SOURCE_DIR}/${_dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hertzgear/${_dir}
             FILES_MATCHING PATTERN "*.h")

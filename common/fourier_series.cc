@@ -30,6 +30,34 @@ namespace hertzgear
     return value(2.0 * M_PI * phase_cycles);
   }
 
+  FourierEvaluator::FourierEvaluator(const FourierSeries &series) : mean(series.mean)
+  {
+    for (unsigned j = 0; j < series.amplitudes.size(); ++j)
+      {
+        a.push_back(series.amplitudes[j] * std::cos(series.phases_rad[j]));
+        b.push_back(series.amplitudes[j] * std::sin(series.phases_rad[j]));
+      }
+  }
+
+  void FourierEvaluator::taylor(const double c1, const double s1, double taylor[3]) const
+  {
+    double v = mean, d1 = 0.0, d2 = 0.0;
+    double cj = c1, sj = s1;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      {
+        const double order = double(j + 1), term = a[j] * cj + b[j] * sj;
+        v += term;
+        d1 += order * (b[j] * cj - a[j] * sj);
+        d2 -= order * order * term;
+        const double c_next = cj * c1 - sj * s1;
+        sj                  = sj * c1 + cj * s1;
+        cj                  = c_next;
+      }
+    taylor[0] = v;
+    taylor[1] = d1;
+    taylor[2] = d2;
+  }
+
   double FourierSeries::amplitude_bound() const
   {
     double b = 0.0;

@@ -32,6 +32,27 @@ namespace hertzgear
     FourierSeries scaled(double factor) const;
   };
 
+  // The same series in the form mean + sum_j a_j cos(j theta) + b_j sin(j theta), evaluated with one
+  // cos/sin pair per call (the angle-addition recurrence gives the higher orders; its rounding
+  // grows like j eps): for right-hand sides that evaluate a series at every stage. It lives beside
+  // FourierSeries because it is that series in another form: the convention A_j cos(j theta -
+  // phi_j) that its coefficients a_j, b_j are taken from is defined here once, for every user.
+  class FourierEvaluator
+  {
+  public:
+    FourierEvaluator() = default;
+    explicit FourierEvaluator(const FourierSeries &series);
+    // Value, d / d theta and d^2 / d theta^2 at the angle theta given by cos(theta) and
+    // sin(theta) (so that several series at one angle share them), in one pass over the
+    // harmonics, into taylor[0..2].
+    void taylor(double cos_theta, double sin_theta, double taylor[3]) const;
+    bool constant() const { return a.empty(); }
+
+  private:
+    double              mean = 0.0;
+    std::vector<double> a, b;
+  };
+
   // The series of a mean, amplitudes A_j and phases phi_j; no phases stand for phases of zero.
   FourierSeries fourier_series(double mean, const std::vector<double> &amplitudes,
                                const std::vector<double> &phases_rad);

@@ -13,31 +13,6 @@ namespace hertzgear::dynamics
   namespace
   {
     double sign(const double v) { return (v > 0.0) - (v < 0.0); }
-    // a^p for a >= 0, with the exponents of line and point contact (1, 3/2 and their
-    // derivatives' 0, 1/2) written out: the right-hand side evaluates them at every stage.
-    double power(const double a, const double p)
-    {
-      if (p == 1.0)
-        return a;
-      if (p == 1.5)
-        return a * std::sqrt(a);
-      if (p == 0.5)
-        return std::sqrt(a);
-      if (p == 0.0)
-        return 1.0;
-      return std::pow(a, p);
-    }
-    // G(delta) = sign(delta)|delta|^n, H(delta) = |delta|^n and their derivatives.
-    double G(const double d, const double n) { return sign(d) * power(std::abs(d), n); }
-    double H(const double d, const double n) { return power(std::abs(d), n); }
-    double G_prime(const double d, const double n)
-    {
-      return n == 1.0 ? 1.0 : n * power(std::abs(d), n - 1.0);
-    }
-    double H_prime(const double d, const double n)
-    {
-      return n == 1.0 ? sign(d) : n * sign(d) * power(std::abs(d), n - 1.0);
-    }
 
     const NameTable<HertzianLayer, 3> hertzian_layer_names = {
       {"dynamic", HertzianLayer::dynamic},
@@ -79,7 +54,7 @@ namespace hertzgear::dynamics
     return I1 * I2 / (I1 * rb2 * rb2 + I2 * rb1 * rb1);
   }
 
-  double equivalent_mesh_stiffness(const StiffnessTable &table, const HertzianLayer layer,
+  double equivalent_mesh_stiffness(const table::StiffnessTable &table, const HertzianLayer layer,
                                    const double F0)
   {
     const double k = table.k_rest_N_per_m.mean;
@@ -124,13 +99,14 @@ namespace hertzgear::dynamics
     if (!prm.effects.rest_stiffness_variation)
       prm.stiffness.k_rest_N_per_m = prm.stiffness.k_rest_N_per_m.constant_part();
 
-    k_rest_series  = FourierEvaluator(prm.stiffness.k_rest_N_per_m);
-    k_hertz_series = FourierEvaluator(prm.stiffness.k_hertz_N_per_m_pow_n);
+    law          = serial_hertz_law(prm.stiffness);
+    n_law_taylor = 3 * law->n_phase_coefficients();
     if (prm.effects.ste_excitation)
       ste_series = FourierEvaluator(prm.stiffness.unloaded_ste_m);
+    phase_varies = law->varies_with_phase() || !ste_series.constant();
 
-    n_exp           = prm.stiffness.hertz_exponent;
     cache.assign(cache_size, PhaseEntry{});
+    law_taylor.assign(std::size_t(cache_size) * n_law_taylor, 0.0);
     cycles_per_s = prm.mesh_frequency_rad_per_s / (2.0 * M_PI);
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
@@ -168,12 +144,7 @@ namespace hertzgear::dynamics
 
   double GearPairModel::mesh_period() const { return 2.0 * M_PI / prm.mesh_frequency_rad_per_s; }
 
-  double GearPairModel::forcing_period() const
-  {
-    const bool varies = !(k_rest_series.constant() && k_hertz_series.constant()) ||
-                        (prm.effects.ste_excitation && !ste_series.constant());
-    return varies ? mesh_period() : 0.0;
-  }
+  double GearPairModel::forcing_period() const { return phase_varies ? mesh_period() : 0.0; }
 
   int GearPairModel::zone_of(const double p) const
   {
@@ -193,19 +164,20 @@ namespace hertzgear::dynamics
     const double frac = cycles - whole;
     constexpr auto one    = std::uint64_t(1) << phase_bits;
     const std::uint64_t key = std::uint64_t(frac * double(one) + 0.5) & (one - 1);
-    PhaseEntry &en = cache[unsigned((key * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits))];
+    const unsigned slot = unsigned((key * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits));
+    PhaseEntry    &en   = cache[slot];
+    double        *lt   = law_taylor.data() + std::size_t(slot) * n_law_taylor;
     if (en.key != key)
       {
         en.key  = key;
         en.frac = frac;
         double c1 = 1.0, s1 = 0.0;
-        if (!(k_rest_series.constant() && k_hertz_series.constant() && ste_series.constant()))
+        if (phase_varies)
           {
             c1 = std::cos(2.0 * M_PI * frac);
             s1 = std::sin(2.0 * M_PI * frac);
           }
-        k_rest_series.taylor(c1, s1, en.k);
-        k_hertz_series.taylor(c1, s1, en.kh);
+        law->phase_coefficients(c1, s1, lt);
         if (prm.effects.ste_excitation)
           ste_series.taylor(c1, s1, en.e);
       }
@@ -214,49 +186,13 @@ namespace hertzgear::dynamics
     d        = d > 0.5 ? d - 1.0 : (d < -0.5 ? d + 1.0 : d);
     const double dth = 2.0 * M_PI * d;
     Coefficients r;
-    r.k       = en.k[0] + en.k[1] * dth;
-    r.kh      = en.kh[0] + en.kh[1] * dth;
-    r.e       = en.e[0] + en.e[1] * dth;
-    r.k_rate  = w * (en.k[1] + en.k[2] * dth);
-    r.kh_rate = w * (en.kh[1] + en.kh[2] * dth);
-    r.e_rate  = w * (en.e[1] + en.e[2] * dth);
+    r.law    = MeshPhase{lt, dth, w};
+    r.e      = en.e[0] + en.e[1] * dth;
+    r.e_rate = w * (en.e[1] + en.e[2] * dth);
     return r;
   }
 
   double GearPairModel::excitation(const double t) const { return coefficients(t).e; }
-
-  double GearPairModel::quasi_static_penetration(const double f, const double k,
-                                                 const double kh) const
-  {
-    // phi(d) = k (|f| - d) - kh d^n is strictly decreasing on [0, |f|] with phi(0) >= 0 >=
-    // phi(|f|): one root, bracketed. Newton steps that leave the bracket are replaced by bisection.
-    const double a = std::abs(f);
-    if (a == 0.0)
-      return 0.0;
-    if (n_exp == 1.0)
-      return sign(f) * k * a / (k + kh);
-    double lo = 0.0, hi = a;
-    double d  = std::min(a, std::pow(k * a / kh, 1.0 / n_exp));
-    for (int it = 0; it < 100; ++it)
-      {
-        const double phi = k * (a - d) - kh * std::pow(d, n_exp);
-        if (phi > 0.0)
-          lo = d;
-        else
-          hi = d;
-        const double dphi = -k - kh * n_exp * std::pow(d, n_exp - 1.0);
-        double       next = d - phi / dphi;
-        if (!(next > lo && next < hi))
-          next = 0.5 * (lo + hi);
-        if (std::abs(next - d) <= 1.0e-15 * a)
-          {
-            d = next;
-            break;
-          }
-        d = next;
-      }
-    return sign(f) * d;
-  }
 
   GearPairModel::Forces GearPairModel::evaluate(const double t, const double *y) const
   {
@@ -274,62 +210,63 @@ namespace hertzgear::dynamics
         r.f     = p - r.zone * b_c;
         r.f_dot = p_dot;
       }
-    const double k = co.k, c = prm.damping_N_s_per_m;
+    const double c = prm.damping_N_s_per_m;
+    MeshLawForces &L = r.law;
 
     switch (prm.effects.hertzian_layer)
       {
         case HertzianLayer::off:
           {
             // Kahraman-Singh: the viscous part is kept, F may turn negative in contact.
-            r.force        = k * r.f + c * r.f_dot;
+            law->evaluate(co.law, r.f, 0.0, L);
+            r.force        = L.structural + c * r.f_dot;
             r.u_dot        = r.f_dot;
             r.layer_closed = r.zone != 0;
             break;
           }
         case HertzianLayer::quasi_static:
           {
-            const double kh = co.kh;
-            const double d  = quasi_static_penetration(r.f, k, kh);
-            const double d_dot =
-              (k * r.f_dot + co.k_rate * (r.f - d) - co.kh_rate * G(d, n_exp)) /
-              (k + kh * G_prime(d, n_exp));
+            const double d = law->quasi_static_penetration(co.law, r.f);
+            law->evaluate(co.law, r.f - d, d, L);
+            const double d_dot = (L.structural_du * r.f_dot + L.structural_dt - L.hertz_dt) /
+                                 (L.structural_du + L.hertz_ddelta);
             r.penetration  = d;
             r.delta_dot    = d_dot;
             r.u_dot        = r.f_dot - d_dot;
             r.layer_closed = r.zone != 0;
             // The viscous part is kept when it makes F pull (Kahraman-Singh convention).
-            r.force = r.layer_closed ? k * (r.f - d) + c * r.u_dot : 0.0;
+            r.force = r.layer_closed ? L.structural + c * r.u_dot : 0.0;
             break;
           }
         case HertzianLayer::dynamic:
           {
-            const double kh = co.kh;
             if (prm.rigid_structure)
               {
+                law->evaluate(co.law, 0.0, r.f, L);
                 r.penetration  = r.f;
                 r.delta_dot    = r.f_dot;
                 r.layer_closed = r.zone != 0;
-                r.force        = kh * G(r.f, n_exp) + mu * H(r.f, n_exp) * r.f_dot;
+                r.force        = L.hertz + mu * L.damping_weight * r.f_dot;
                 break;
               }
             const double d = y[2];
+            law->evaluate(co.law, r.f - d, d, L);
             r.penetration  = d;
             r.layer_closed = r.zone != 0 && d * r.zone > 0.0;
             if (r.layer_closed)
               {
-                const double Hd = H(d, n_exp), Gd = sign(d) * Hd;
-                const double D  = c + mu * Hd;
-                const double N  = k * (r.f - d) + c * r.f_dot - kh * Gd;
-                r.delta_dot     = D > 0.0 ? N / D : 0.0;
+                const double D = c + mu * L.damping_weight;
+                const double N = L.structural + c * r.f_dot - L.hertz;
+                r.delta_dot    = D > 0.0 ? N / D : 0.0;
                 // The layer opens when delta returns to 0 (an event). Before that, in a rebound
                 // faster than 1/(1.5 alpha), the Hunt-Crossley term may make F pull briefly: it is
                 // kept (Kahraman-Singh convention), which keeps the vector field continuous.
-                r.force = kh * Gd + mu * Hd * r.delta_dot;
+                r.force = L.hertz + mu * L.damping_weight * r.delta_dot;
               }
             if (!r.layer_closed)
               {
                 // Open layer: the massless interface follows c (f' - delta') + k (f - delta) = 0.
-                r.delta_dot = c > 0.0 ? r.f_dot + k * (r.f - d) / c : 0.0;
+                r.delta_dot = c > 0.0 ? r.f_dot + L.structural / c : 0.0;
                 r.force     = 0.0;
               }
             r.u_dot = r.f_dot - r.delta_dot;
@@ -359,25 +296,23 @@ namespace hertzgear::dynamics
 
   void GearPairModel::jacobian(const double t, const double *y, double *J) const
   {
-    const Coefficients co = coefficients(t);
-    jacobian(co, evaluate(co, y), y, J);
+    jacobian(evaluate(t, y), J);
   }
 
   void GearPairModel::rhs_and_jacobian(const double t, const double *y, double *y_dot, double *J)
   {
-    const Coefficients co = coefficients(t);
-    const Forces       r  = evaluate(co, y);
+    const Forces r = evaluate(t, y);
     derivative(r, y, y_dot);
-    jacobian(co, r, y, J);
+    jacobian(r, J);
   }
 
-  void GearPairModel::jacobian(const Coefficients &co, const Forces &r, const double *y,
-                               double *J) const
+  void GearPairModel::jacobian(const Forces &r, double *J) const
   {
     const unsigned     n  = n_states();
     std::fill(J, J + n * n, 0.0);
     const double s = (r.zone != 0 || b_c == 0.0) ? 1.0 : 0.0; // df/dx = df'/dx'
-    const double k = co.k, c = prm.damping_N_s_per_m, m = prm.equivalent_mass_kg;
+    const MeshLawForces &L = r.law;
+    const double k = L.structural_du, c = prm.damping_N_s_per_m, m = prm.equivalent_mass_kg;
     double       dF_dx = 0.0, dF_dv = 0.0, dF_dd = 0.0;
     J[0 * n + 1] = 1.0;
     if (prm.effects.hertzian_layer == HertzianLayer::off)
@@ -389,21 +324,18 @@ namespace hertzgear::dynamics
       {
         if (r.layer_closed)
           {
-            const double kh = co.kh;
-            dF_dx = s * (kh * G_prime(r.f, n_exp) + mu * H_prime(r.f, n_exp) * r.f_dot);
-            dF_dv = s * mu * H(r.f, n_exp);
+            dF_dx = s * (L.hertz_ddelta + mu * L.damping_weight_slope * r.f_dot);
+            dF_dv = s * mu * L.damping_weight;
           }
       }
     else
       {
-        const double d = y[2];
         if (r.layer_closed)
           {
-            const double kh    = co.kh;
-            const double D     = c + mu * H(d, n_exp);
-            const double dN_dd = -k - kh * G_prime(d, n_exp);
+            const double D     = c + mu * L.damping_weight;
+            const double dN_dd = -k - L.hertz_ddelta;
             const double ddot_dx = k * s / D, ddot_dv = c * s / D;
-            const double ddot_dd = (dN_dd - r.delta_dot * mu * H_prime(d, n_exp)) / D;
+            const double ddot_dd = (dN_dd - r.delta_dot * mu * L.damping_weight_slope) / D;
             J[2 * n + 0]        = ddot_dx;
             J[2 * n + 1]        = ddot_dv;
             J[2 * n + 2]        = ddot_dd;
@@ -478,17 +410,17 @@ namespace hertzgear::dynamics
     // (c + mu H(delta)) delta' = k (f - delta) + c f' - k_h G(delta) in contact, which is
     // algebraic where c + mu H vanishes (c = 0 at delta = 0); c (f' - delta') + k (f - delta) = 0
     // with the layer open.
-    const Forces r = evaluate(t, y);
-    const double k = k_rest(t), c = prm.damping_N_s_per_m, d = y[2];
+    const Forces         r = evaluate(t, y);
+    const MeshLawForces &L = r.law; // at u = f - delta, delta = y[2]
+    const double         c = prm.damping_N_s_per_m, d = y[2];
     const bool   closed = prm.damping_N_s_per_m > 0.0 ? r.layer_closed :
                                                         (r.zone != 0 && d * r.zone >= 0.0);
-    double F = k * (r.f - d) + c * (r.f_dot - y_dot[2]);
+    double F = L.structural + c * (r.f_dot - y_dot[2]);
     if (closed)
-      res[2] = (c + mu * H(d, n_exp)) * y_dot[2] -
-               (k * (r.f - d) + c * r.f_dot - k_hertz(t) * G(d, n_exp));
+      res[2] = (c + mu * L.damping_weight) * y_dot[2] - (L.structural + c * r.f_dot - L.hertz);
     else
       {
-        res[2] = c * (y_dot[2] - r.f_dot) - k * (r.f - d);
+        res[2] = c * (y_dot[2] - r.f_dot) - L.structural;
         F      = 0.0;
       }
     res[0] = y_dot[0] - y[1];
@@ -510,15 +442,15 @@ namespace hertzgear::dynamics
         // Without c the structural spring is in static balance with the layer whenever
         // c + mu H(delta) vanishes: put delta on that balance.
         const Forces r = evaluate(t, y);
-        if (mu * H(y[2], n_exp) == 0.0 || r.zone == 0)
-          y[2] = quasi_static_penetration(r.f, k_rest(t), k_hertz(t));
+        if (mu * r.law.damping_weight == 0.0 || r.zone == 0)
+          y[2] = law->quasi_static_penetration(coefficients(t).law, r.f);
       }
     rhs(t, y, y_dot);
     if (has_delta_state && prm.damping_N_s_per_m == 0.0)
       {
         // rhs() took F from the layer; with c = 0 it is k (f - delta), equal when consistent.
         const Forces r = evaluate(t, y);
-        y_dot[1] = (prm.static_force_N - k_rest(t) * (r.f - y[2]) * (r.zone != 0 ? 1.0 : 0.0)) /
+        y_dot[1] = (prm.static_force_N - r.law.structural * (r.zone != 0 ? 1.0 : 0.0)) /
                    prm.equivalent_mass_kg;
       }
   }
@@ -542,7 +474,7 @@ namespace hertzgear::dynamics
 
   std::vector<double> GearPairModel::state_scales() const
   {
-    const double k_max = prm.stiffness.k_rest_N_per_m.mean + prm.stiffness.k_rest_N_per_m.amplitude_bound();
+    const double k_max = law->structural_stiffness_bound();
     const double omega = std::sqrt(k_max / prm.equivalent_mass_kg) + prm.mesh_frequency_rad_per_s;
     std::vector<double> s(n_states(), x_scale);
     s[1] = x_scale * omega;
@@ -567,23 +499,24 @@ namespace hertzgear::dynamics
     s.penetration_m    = r.penetration;
     s.force_N          = r.force;
     s.contact          = r.layer_closed ? r.zone : 0;
-    const double k = k_rest(t), c = prm.damping_N_s_per_m;
+    const MeshPhase phase = coefficients(t).law;
+    const double    c     = prm.damping_N_s_per_m;
     const double layer_closed = r.layer_closed ? 1.0 : 0.0;
     switch (prm.effects.hertzian_layer)
       {
         case HertzianLayer::off:
-          s.elastic_energy_J = 0.5 * k * r.f * r.f;
+          s.elastic_energy_J = law->elastic_energy(phase, r.f, 0.0).structural;
           s.dissipation_W    = c * r.f_dot * r.f_dot;
           break;
         case HertzianLayer::quasi_static:
         case HertzianLayer::dynamic:
           {
-            const double kh = k_hertz(t), d = r.penetration;
-            const double u  = prm.rigid_structure ? 0.0 : r.f - d;
-            s.elastic_energy_J = 0.5 * k * u * u +
-                                 layer_closed * kh * H(d, n_exp) * std::abs(d) / (n_exp + 1.0);
+            const double d = r.penetration;
+            const double u = prm.rigid_structure ? 0.0 : r.f - d;
+            const MeshLawEnergy energy = law->elastic_energy(phase, u, d);
+            s.elastic_energy_J = energy.structural + layer_closed * energy.hertz;
             s.dissipation_W = (prm.rigid_structure ? 0.0 : c * r.u_dot * r.u_dot) +
-                              layer_closed * mu * H(d, n_exp) * r.delta_dot * r.delta_dot;
+                              layer_closed * mu * r.law.damping_weight * r.delta_dot * r.delta_dot;
             break;
           }
       }
@@ -605,12 +538,13 @@ namespace hertzgear::dynamics
     const double e0 = excitation(0.0);
     if (F0 <= 0.0)
       return state(e0, 0.0, 0.0);
-    const double k = prm.stiffness.k_rest_N_per_m.mean;
-    double       delta = 0.0, f = F0 / k;
+    double u = 0.0, delta_layer = 0.0;
+    law->static_compressions(F0, u, delta_layer);
+    double delta = 0.0, f = u;
     if (prm.effects.hertzian_layer != HertzianLayer::off)
       {
-        delta = std::pow(F0 / prm.stiffness.k_hertz_N_per_m_pow_n.mean, 1.0 / n_exp);
-        f     = prm.rigid_structure ? delta : delta + F0 / k;
+        delta = delta_layer;
+        f     = prm.rigid_structure ? delta : delta + u;
       }
     return state(e0 + b_c + f, 0.0, delta);
   }

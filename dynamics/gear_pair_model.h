@@ -1,13 +1,17 @@
 #pragma once
 // The gear-pair model along the line of action (docs/dynamics.md), assembled from only the effects
 // a scene asks for:
-//   m_e x'' = F_0 - F,  F the mesh force through the structural spring k and damper c in series
-//   with the Hertzian layer k_h(t) G(delta) + mu H(delta) delta'.
+//   m_e x'' = F_0 - F,  F the mesh force through the structural spring K_r and damper c in series
+//   with the Hertzian layer K_h(delta) + mu H(delta) delta'.
+// The two springs are the mesh force law (dynamics/mesh_force_law.h; the paper's K_r = k(t) u,
+// K_h = k_h(t) G(delta)); the model owns the rest of the equations.
 // State (x, x') without a dynamic Hertzian layer, (x, x', delta) with one. SI units throughout.
+#include "dynamics/mesh_force_law.h"
 #include "dynamics/ode_system.h"
-#include "dynamics/stiffness_table.h"
+#include "table/stiffness_table.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,7 +56,7 @@ namespace hertzgear::dynamics
     double         damping_N_s_per_m          = 0.0; // c of the structural mesh spring
     double         alpha_s_per_m              = 0.26; // Hunt-Crossley
     double         restitution_coefficient    = 0.9; // Lankarani-Nikravesh
-    StiffnessTable stiffness;
+    table::StiffnessTable stiffness;
     Effects        effects;
     // Library option, not a scene effect: k -> infinity, i.e. the Hertzian layer alone
     // (delta = f(x), state (x, x')). Used to check a contact law in isolation.
@@ -66,7 +70,7 @@ namespace hertzgear::dynamics
   // Linearised mesh stiffness at the static load: k in series with the tangent Hertzian stiffness
   // n k_mh delta_s^(n-1), k_mh delta_s^n = F_0. Used for c = 2 zeta sqrt(k_eq m_e). With no load
   // and n > 1 the tangent Hertzian stiffness vanishes; then k alone is used.
-  double equivalent_mesh_stiffness(const StiffnessTable &table, HertzianLayer layer,
+  double equivalent_mesh_stiffness(const table::StiffnessTable &table, HertzianLayer layer,
                                    double static_force_N);
 
   // The mesh damping of a damping ratio zeta, c = 2 zeta sqrt(k_eq m_e), with k_eq the
@@ -91,6 +95,8 @@ namespace hertzgear::dynamics
     explicit GearPairModel(GearPairParameters parameters);
 
     const GearPairParameters &parameters() const { return prm; }
+    // The force law of the mesh's two springs (the paper's serial Hertz law).
+    const MeshForceLaw &mesh_force_law() const { return *law; }
 
     unsigned n_states() const override { return has_delta_state ? 3 : 2; }
     void     rhs(double t, const double *y, double *y_dot) override;
@@ -140,53 +146,56 @@ namespace hertzgear::dynamics
       double u_dot     = 0; // rate of the structural compression u = f - delta
       bool   layer_closed = false;
       double penetration  = 0;
+      MeshLawForces law; // at u = f - delta and delta = penetration (u = f without a layer)
     };
     Forces evaluate(double t, const double *y) const;
     // Backlash zone of p = x - e: +1 forward contact, -1 back side, 0 in the backlash.
     int    zone_of(double p) const;
-    // The coefficients that depend on time only: one cos/sin pair of the mesh angle serves every
-    // series. They are kept by mesh phase, since an implicit integrator evaluates the
-    // right-hand side at the same stage times in every Newton iteration, and a periodic motion
-    // at the same phases in every period (which is also why one model must not be shared
-    // between threads).
+    // The coefficients that depend on time only: the force law's phase coefficients and the
+    // excitation; one cos/sin pair of the mesh angle serves every series. They are kept by mesh
+    // phase, since an implicit integrator evaluates the right-hand side at the same stage times
+    // in every Newton iteration, and a periodic motion at the same phases in every period (which
+    // is also why one model must not be shared between threads).
     struct Coefficients
     {
-      double k = 0, k_rate = 0, kh = 0, kh_rate = 0, e = 0, e_rate = 0;
+      MeshPhase law;
+      double    e = 0, e_rate = 0;
     };
     Coefficients coefficients(double t) const;
     Forces       evaluate(const Coefficients &co, const double *y) const;
     // y' from the forces at y.
     void         derivative(const Forces &r, const double *y, double *y_dot) const;
-    // df/dy at y from the coefficients and the forces evaluated there.
-    void         jacobian(const Coefficients &co, const Forces &r, const double *y, double *J) const;
-    double k_rest(double t) const { return coefficients(t).k; }
-    double k_hertz(double t) const { return coefficients(t).kh; }
-    // delta from k (f - delta) = k_h G(delta) by Newton safeguarded with bisection.
-    double quasi_static_penetration(double f, double k, double kh) const;
+    // df/dy at a state from the forces evaluated there.
+    void         jacobian(const Forces &r, double *J) const;
 
     GearPairParameters prm;
-    FourierEvaluator   k_rest_series, k_hertz_series, ste_series;
+    // Immutable once built, so copies of the model share it.
+    std::shared_ptr<const MeshForceLaw> law;
+    unsigned                            n_law_taylor = 0; // 3 per phase coefficient
+    bool                                phase_varies = false; // the law or the excitation
+    FourierEvaluator                    ste_series;
     bool               has_delta_state  = false;
     unsigned           n_root_functions = 0;
-    double             n_exp            = 1.0;
     double             b_c              = 0.0;
     double             mu               = 0.0; // current contact damping coefficient
     double             x_scale          = 0.0;
     // The store of coefficients, direct-mapped on the mesh phase rounded to 2^-phase_bits of a
     // period (the key; all ones: empty). An entry keeps each series' value and first two
-    // derivatives at the exact phase that filled it; another phase of the same key (at most
-    // 2^-phase_bits of a period away) is served by the Taylor polynomial, exact to rounding at
-    // that distance. It holds several periods' worth of stage phases, so that a periodic
-    // motion, whose steps repeat every period, finds them again.
+    // derivatives at the exact phase that filled it (the law's in law_taylor, n_law_taylor per
+    // entry); another phase of the same key (at most 2^-phase_bits of a period away) is served
+    // by the Taylor polynomial, exact to rounding at that distance. It holds several periods'
+    // worth of stage phases, so that a periodic motion, whose steps repeat every period, finds
+    // them again.
     struct PhaseEntry
     {
       std::uint64_t key  = ~std::uint64_t(0);
       double        frac = 0.0; // phase in periods, [0, 1)
-      double        k[3] = {}, kh[3] = {}, e[3] = {};
+      double        e[3] = {};
     };
     static constexpr int      phase_bits = 36;
     static constexpr unsigned cache_bits = 12, cache_size = 1u << cache_bits;
     mutable std::vector<PhaseEntry> cache;
+    mutable std::vector<double>     law_taylor;
     double                          cycles_per_s = 0.0; // omega_m / 2 pi
   };
 } // namespace hertzgear::dynamics

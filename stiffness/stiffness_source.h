@@ -11,7 +11,7 @@
 #include "common/fourier_series.h"
 #include "common/material.h"
 #include "common/progress.h"
-#include "dynamics/stiffness_table.h"
+#include "table/stiffness_table.h"
 #include "meshing/gear_parameters.h"
 
 #include <nlohmann/json.hpp>
@@ -123,7 +123,7 @@ namespace hertzgear::stiffness
 
   struct StiffnessResult
   {
-    dynamics::StiffnessTable table; // SI: the contract with the dynamics
+    table::StiffnessTable table; // SI: the contract with the dynamics
     std::vector<PositionRow> rows;  // empty for a source that reads a table (table, fourier)
     FourierSeries            k_total_N_per_m, ste_m; // fits of the rows
     double                   mean_k_rest_N_per_m = 0;

@@ -22,5 +22,5 @@ namespace hertzgear::stiffness
   // The table of input.table_file. Throws ParameterError("table_file", ...) for a file that is
   // missing, not a regular file, too large, not a table, or computed for another pair; prints a
   // warning line when its load differs from input.torque_Nm's.
-  dynamics::StiffnessTable read_table_for(const StiffnessInput &input);
+  table::StiffnessTable read_table_for(const StiffnessInput &input);
 } // namespace hertzgear::stiffness

@@ -117,13 +117,13 @@ namespace hertzgear::stiffness
     }
   } // namespace
 
-  dynamics::StiffnessTable read_table_for(const StiffnessInput &input)
+  table::StiffnessTable read_table_for(const StiffnessInput &input)
   {
     const std::string file = input.table_file.string();
     std::string       text;
     try
       {
-        text = read_input_file(input.table_file, "stiffness table", dynamics::max_table_bytes);
+        text = read_input_file(input.table_file, "stiffness table", table::max_table_bytes);
       }
     catch (const ParameterError &)
       {
@@ -137,11 +137,11 @@ namespace hertzgear::stiffness
     if (depth > max_json_nesting)
       throw ParameterError("table_file", msg(file, ": nested ", depth, " levels deep, more than the ",
                                              max_json_nesting, " levels a stiffness table can have"));
-    dynamics::StiffnessTable table;
+    table::StiffnessTable table;
     nlohmann::json           json;
     try
       {
-        table = dynamics::stiffness_table_from_json_text(text, file);
+        table = table::stiffness_table_from_json_text(text, file);
         json  = nlohmann::json::parse(text);
       }
     catch (const InputError &e)

@@ -169,7 +169,7 @@ namespace hertzgear::stiffness
 
   nlohmann::json stiffness_json(const StiffnessResult &r)
   {
-    nlohmann::json j = nlohmann::json::parse(dynamics::stiffness_table_to_json_text(r.table));
+    nlohmann::json j = nlohmann::json::parse(table::stiffness_table_to_json_text(r.table));
     j["k_total_N_per_m"]            = fourier_series_json(r.k_total_N_per_m, true);
     j["ste_m"]                      = fourier_series_json(r.ste_m, true);
     j["k_hertz_unit"]               = "N/m^n";

@@ -1,6 +1,6 @@
 // Requirements on `hertzgear stiffness`: the stiffness.csv / stiffness.json contract, a table the
 // dynamics stage reads back, and clear errors (exit 2) for loads and settings it cannot analyse.
-#include "dynamics/stiffness_table.h"
+#include "table/stiffness_table.h"
 
 #include "tests/support/run_command.h"
 
@@ -75,7 +75,7 @@ TEST(StiffnessCli, WritesTheContractColumnsAndATableTheDynamicsReads)
     }
   EXPECT_EQ(n_rows, 5);
 
-  const auto table = hertzgear::dynamics::read_stiffness_table(out / "stiffness.json");
+  const auto table = hertzgear::table::read_stiffness_table(out / "stiffness.json");
   EXPECT_DOUBLE_EQ(table.hertz_exponent, 1.0);
   EXPECT_GT(table.k_hertz_N_per_m_pow_n.mean, 0.0);
   EXPECT_GT(table.k_rest_N_per_m.mean, 0.0);

@@ -64,3 +64,53 @@ TEST(FourierFit, TooFewSamplesForTheHarmonicsIsAnInputError)
         << e.what();
     }
 }
+
+// Requirement: the fit of S uniform samples (the overload without phases) of a series with
+// h <= (S-1)/2 harmonics returns its mean, amplitudes and phases, and asking for more harmonics
+// than S samples determine is an InputError. Tolerance 1e-12 relative: the 9 x 7 QR solve of exact
+// samples is exact up to round-off (~1e-15).
+TEST(FourierFit, RecoversASeriesFromUniformSamplesWithoutPhases)
+{
+  const FourierSeries truth{5.0e10, {2.0e10, 4.0e9, 6.0e9}, {0.3, -2.0, 1.1}};
+  std::vector<double> samples(9);
+  for (int i = 0; i < 9; ++i)
+    samples[i] = truth.value(2.0 * M_PI * i / 9);
+  const FourierSeries fit = fit_fourier_series(samples, 3);
+  EXPECT_NEAR(fit.mean, truth.mean, 1e-12 * truth.mean);
+  for (int j = 0; j < 3; ++j)
+    {
+      EXPECT_NEAR(fit.amplitudes[j], truth.amplitudes[j], 1e-12 * truth.mean);
+      EXPECT_NEAR(std::remainder(fit.phases_rad[j] - truth.phases_rad[j], 2 * M_PI), 0.0, 1e-12);
+    }
+  EXPECT_THROW(fit_fourier_series(samples, 5), InputError);
+}
+
+// Requirement: the cos/sin-form evaluator the model uses at every new phase returns the series'
+// value and its first two derivatives. 20 harmonics of decreasing amplitude at 50 phases: the
+// recurrence's rounding grows like j eps, so 1e-13 of the amplitude sum (times the order j and
+// j^2 that the derivatives weigh it with, at most 20 and 400) bounds the difference.
+TEST(FourierEvaluator, MatchesTheSeriesAndItsDerivatives)
+{
+  FourierSeries series{5.0e10, {}, {}};
+  for (int j = 1; j <= 20; ++j)
+    {
+      series.amplitudes.push_back(2.0e10 / j);
+      series.phases_rad.push_back(0.7 * j - 3.0);
+    }
+  const FourierEvaluator fast(series);
+  const double           scale = series.amplitude_bound();
+  for (int i = 0; i < 50; ++i)
+    {
+      const double theta = -20.0 + 0.83 * i;
+      const double c = std::cos(theta), s = std::sin(theta);
+      double taylor[3];
+      fast.taylor(c, s, taylor);
+      double second = 0.0;
+      for (unsigned j = 0; j < series.amplitudes.size(); ++j)
+        second -= (j + 1.0) * (j + 1.0) * series.amplitudes[j] *
+                  std::cos((j + 1) * theta - series.phases_rad[j]);
+      EXPECT_NEAR(taylor[0], series.value(theta), 1e-13 * (series.mean + scale));
+      EXPECT_NEAR(taylor[1], series.derivative(theta), 1e-13 * 20 * scale);
+      EXPECT_NEAR(taylor[2], second, 1e-13 * 400 * scale);
+    }
+}

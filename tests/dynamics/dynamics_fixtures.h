@@ -2,7 +2,7 @@
 // Shared set-ups of the dynamics tests.
 #include "dynamics/analysis.h"
 #include "dynamics/gear_pair_model.h"
-#include "dynamics/stiffness_table.h"
+#include "table/stiffness_table.h"
 
 #include <cmath>
 #include <complex>
@@ -57,7 +57,7 @@ namespace hertzgear::dynamics::testing
   inline GearPairParameters contact_loss_pair()
   {
     GearPairParameters p;
-    p.stiffness = read_stiffness_table(std::string(HERTZGEAR_SOURCE_DIR) +
+    p.stiffness = table::read_stiffness_table(std::string(HERTZGEAR_SOURCE_DIR) +
                                        "/data/stiffness/paper_crowned.json");
     p.equivalent_mass_kg       = 0.1432020538745814;
     p.static_force_N           = 6477.603832462074;

@@ -1,6 +1,5 @@
-// Unit checks of the stiffness table and the gear-pair model's building blocks.
+// Unit checks of the gear-pair model's building blocks.
 #include "dynamics/gear_pair_model.h"
-#include "dynamics/stiffness_table.h"
 
 #include "common/errors.h"
 #include "tests/dynamics/dynamics_fixtures.h"
@@ -12,84 +11,6 @@
 using namespace hertzgear::dynamics;
 using namespace hertzgear::dynamics::testing;
 using hertzgear::FourierSeries;
-using hertzgear::fit_fourier_series;
-
-// Requirement: a Fourier fit by FFTW of S uniform samples of a series with h <= (S-1)/2 harmonics
-// returns its mean, amplitudes and phases. Tolerance 1e-12 relative: the DFT of exactly
-// representable samples is exact up to round-off (a few ulp times log2 S).
-// Requirement: the cos/sin-form evaluator the model uses at every new phase returns the series'
-// value and its first two derivatives. 20 harmonics of decreasing amplitude at 50 phases: the
-// recurrence's rounding grows like j eps, so 1e-13 of the amplitude sum (times the order j and
-// j^2 that the derivatives weigh it with, at most 20 and 400) bounds the difference.
-TEST(StiffnessTable, FourierEvaluatorMatchesTheSeries)
-{
-  FourierSeries series{5.0e10, {}, {}};
-  for (int j = 1; j <= 20; ++j)
-    {
-      series.amplitudes.push_back(2.0e10 / j);
-      series.phases_rad.push_back(0.7 * j - 3.0);
-    }
-  const FourierEvaluator fast(series);
-  const double           scale = series.amplitude_bound();
-  for (int i = 0; i < 50; ++i)
-    {
-      const double theta = -20.0 + 0.83 * i;
-      const double c = std::cos(theta), s = std::sin(theta);
-      double taylor[3];
-      fast.taylor(c, s, taylor);
-      double second = 0.0;
-      for (unsigned j = 0; j < series.amplitudes.size(); ++j)
-        second -= (j + 1.0) * (j + 1.0) * series.amplitudes[j] *
-                  std::cos((j + 1) * theta - series.phases_rad[j]);
-      EXPECT_NEAR(taylor[0], series.value(theta), 1e-13 * (series.mean + scale));
-      EXPECT_NEAR(taylor[1], series.derivative(theta), 1e-13 * 20 * scale);
-      EXPECT_NEAR(taylor[2], second, 1e-13 * 400 * scale);
-    }
-}
-
-TEST(StiffnessTable, FourierFitRecoversTheSeries)
-{
-  const FourierSeries truth{5.0e10, {2.0e10, 4.0e9, 6.0e9}, {0.3, -2.0, 1.1}};
-  std::vector<double> samples(9);
-  for (int i = 0; i < 9; ++i)
-    samples[i] = truth.value(2.0 * M_PI * i / 9);
-  const FourierSeries fit = fit_fourier_series(samples, 3);
-  EXPECT_NEAR(fit.mean, truth.mean, 1e-12 * truth.mean);
-  for (int j = 0; j < 3; ++j)
-    {
-      EXPECT_NEAR(fit.amplitudes[j], truth.amplitudes[j], 1e-12 * truth.mean);
-      EXPECT_NEAR(std::remainder(fit.phases_rad[j] - truth.phases_rad[j], 2 * M_PI), 0.0, 1e-12);
-    }
-  EXPECT_THROW(fit_fourier_series(samples, 5), hertzgear::InputError);
-}
-
-// Requirement: the stiffness table survives a JSON round trip, and a table given only as samples
-// is fitted on reading. Exact equality for the round trip: JSON writes doubles with 17 digits.
-TEST(StiffnessTable, JsonRoundTripAndSampledTables)
-{
-  StiffnessTable t;
-  t.hertz_exponent        = 1.5;
-  t.k_rest_N_per_m        = {2.79e8, {}, {}};
-  t.k_hertz_N_per_m_pow_n = {5.095e10, {2.045e10}, {0.5}};
-  t.unloaded_ste_m        = {0.0, {1e-6}, {0.0}};
-  t.has_unloaded_ste      = true;
-  const StiffnessTable back = stiffness_table_from_json_text(stiffness_table_to_json_text(t));
-  EXPECT_EQ(back.hertz_exponent, t.hertz_exponent);
-  EXPECT_EQ(back.k_hertz_N_per_m_pow_n.amplitudes, t.k_hertz_N_per_m_pow_n.amplitudes);
-  EXPECT_EQ(back.k_hertz_N_per_m_pow_n.phases_rad, t.k_hertz_N_per_m_pow_n.phases_rad);
-  EXPECT_TRUE(back.has_unloaded_ste);
-
-  const std::string sampled = R"({"hertz_exponent": 1.0, "k_rest_N_per_m": {"mean": 4.17e8},
-    "samples": {"mesh_phase": [0, 0.2, 0.4, 0.6, 0.8],
-                "k_hertz_N_per_m_pow_n": [2e9, 1e9, 1e9, 1e9, 1e9]}})";
-  const StiffnessTable s = stiffness_table_from_json_text(sampled);
-  EXPECT_NEAR(s.k_hertz_N_per_m_pow_n.mean, 1.2e9, 1e-3);
-  EXPECT_EQ(s.k_hertz_N_per_m_pow_n.n_harmonics(), 2u);
-
-  // Bad tables fail with InputError naming the problem.
-  EXPECT_THROW(stiffness_table_from_json_text(R"({"hertz_exponent": 3})"), hertzgear::InputError);
-  EXPECT_THROW(stiffness_table_from_json_text("{not json"), hertzgear::InputError);
-}
 
 // Requirement: an effect that is off is absent from the state: 3 components only with a dynamic
 // Hertzian layer, and no root functions for the linear model.

@@ -1,4 +1,4 @@
-#include "dynamics/stiffness_table.h"
+#include "table/stiffness_table.h"
 
 #include "common/input_file.h"
 
@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace hertzgear::dynamics
+namespace hertzgear::table
 {
   namespace
   {
@@ -22,34 +22,6 @@ namespace hertzgear::dynamics
       return j.contains(key) ? j.at(key).get<std::vector<double>>() : std::vector<double>{};
     }
   } // namespace
-
-  FourierEvaluator::FourierEvaluator(const FourierSeries &series) : mean(series.mean)
-  {
-    for (unsigned j = 0; j < series.amplitudes.size(); ++j)
-      {
-        a.push_back(series.amplitudes[j] * std::cos(series.phases_rad[j]));
-        b.push_back(series.amplitudes[j] * std::sin(series.phases_rad[j]));
-      }
-  }
-
-  void FourierEvaluator::taylor(const double c1, const double s1, double taylor[3]) const
-  {
-    double v = mean, d1 = 0.0, d2 = 0.0;
-    double cj = c1, sj = s1;
-    for (std::size_t j = 0; j < a.size(); ++j)
-      {
-        const double order = double(j + 1), term = a[j] * cj + b[j] * sj;
-        v += term;
-        d1 += order * (b[j] * cj - a[j] * sj);
-        d2 -= order * order * term;
-        const double c_next = cj * c1 - sj * s1;
-        sj                  = sj * c1 + cj * s1;
-        cj                  = c_next;
-      }
-    taylor[0] = v;
-    taylor[1] = d1;
-    taylor[2] = d2;
-  }
 
   void StiffnessTable::check() const
   {
@@ -187,4 +159,4 @@ namespace hertzgear::dynamics
   {
     write_file_atomically(file, stiffness_table_to_json_text(table));
   }
-} // namespace hertzgear::dynamics
+} // namespace hertzgear::table

@@ -1,6 +1,7 @@
 #pragma once
-// The one contract between the FE stage and the dynamics: the mesh stiffness over a mesh cycle.
-// A plain value type plus its JSON form (schema in docs/architecture.md, "Stiffness table schema").
+// The one contract between the stiffness stage and the dynamics: the mesh stiffness over a mesh
+// cycle. A plain value type plus its JSON form (schema in docs/architecture.md, "Stiffness table
+// schema"), in a library of its own (hertzgear_table) that both sides link and neither owns.
 // Everything is in SI units; the JSON keys carry their units.
 #include "common/fourier_series.h"
 
@@ -9,27 +10,8 @@
 #include <string>
 #include <vector>
 
-namespace hertzgear::dynamics
+namespace hertzgear::table
 {
-  // The same series in the form mean + sum_j a_j cos(j theta) + b_j sin(j theta), evaluated with one
-  // cos/sin pair per call (the angle-addition recurrence gives the higher orders; its rounding
-  // grows like j eps). For right-hand sides that evaluate a series at every stage.
-  class FourierEvaluator
-  {
-  public:
-    FourierEvaluator() = default;
-    explicit FourierEvaluator(const FourierSeries &series);
-    // Value, d / d theta and d^2 / d theta^2 at the angle theta given by cos(theta) and
-    // sin(theta) (so that several series at one angle share them), in one pass over the
-    // harmonics, into taylor[0..2].
-    void taylor(double cos_theta, double sin_theta, double taylor[3]) const;
-    bool constant() const { return a.empty(); }
-
-  private:
-    double              mean = 0.0;
-    std::vector<double> a, b;
-  };
-
   // Optional sampled series over one mesh cycle, as the FE stage computes them.
   struct StiffnessSamples
   {
@@ -67,4 +49,4 @@ namespace hertzgear::dynamics
                                                 const std::string &where = "stiffness table");
   std::string    stiffness_table_to_json_text(const StiffnessTable &table);
   void write_stiffness_table(const std::filesystem::path &file, const StiffnessTable &table);
-} // namespace hertzgear::dynamics
+} // namespace hertzgear::table
