@@ -9,9 +9,8 @@
 #include "fem/core_lending.h"
 #include "fem/cyclic_gear_body.h"
 #include "fem/flank_compliance.h"
-#include "fem/mpi_root.h"
-#include "meshing/pair_kinematics.h"
 #include "common/processes.h"
+#include "meshing/pair_kinematics.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/distributed/shared_tria.h>
@@ -462,7 +461,7 @@ namespace hertzgear::stiffness
         make_kinematics();
         choose_loaded_teeth();
         set_table_settings();
-        fem::on_root(MPI_COMM_WORLD, [&] { fs::create_directories(fe.mesh_dir); });
+        processes::agree([&] { fs::create_directories(fe.mesh_dir); }, true);
         for (unsigned int b = 0; b < 2; ++b)
           make_mesh(b);
         if (full_gear_model())
@@ -536,7 +535,7 @@ namespace hertzgear::stiffness
         const std::string name = body_name(b);
         PhaseTimer::Scope scope(timer, "mesh " + name);
         // gmsh runs on rank 0 only; the others read its file.
-        fem::on_root(MPI_COMM_WORLD, [&] {
+        processes::agree([&] {
           meshing::GearBodyMesher mesher;
           const auto quality  = mesher.mesh(gear, mesh, active_start_radius_mm(b), msh_file(b));
           central[b]          = quality.central_tooth;
@@ -544,7 +543,7 @@ namespace hertzgear::stiffness
           progress_line("stiffness", name + " mesh: " + std::to_string(quality.n_elements) +
                                        " elements, " + std::to_string(quality.n_nodes) + " nodes" +
                                        (quality.full_gear ? " (full gear)" : ""));
-        });
+        }, true);
         if (processes::count() > 1)
           {
             central[b] = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, central[b], 0);
@@ -634,7 +633,7 @@ namespace hertzgear::stiffness
           }
         // On two ranks the one that finishes first lends its cores to the other.
         fem::CoreLending lending(MPI_COMM_WORLD);
-        fem::on_every_rank(MPI_COMM_WORLD, [&] {
+        processes::agree([&] {
           try
             {
               for (unsigned int b = 0; b < 2; ++b)
@@ -853,10 +852,10 @@ namespace hertzgear::stiffness
         std::string partial = temporary_path_for(fe.fields_dir).string();
         if (processes::count() > 1)
           partial = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, partial, 0);
-        fem::on_root(MPI_COMM_WORLD, [&] {
+        processes::agree([&] {
           fs::remove_all(partial);
           fs::create_directories(partial);
-        });
+        }, true);
         const double force_scale =
           dim == 2 ? 1.0 / std::min(kin->pinion().face_width_mm(), kin->gear().face_width_mm()) : 1.0;
         for (unsigned int b = 0; b < 2; ++b)
@@ -876,7 +875,7 @@ namespace hertzgear::stiffness
             const auto        points = bodies[b]->contact_points(p, b == 1);
             const std::string file = msg(name, "_contact_", std::setw(4), std::setfill('0'), i, ".vtu");
             contact_files.emplace_back(p.mesh_phase, file);
-            fem::on_root(MPI_COMM_WORLD, [&] {
+            processes::agree([&] {
               std::vector<double> pair(p.cell_pair.begin(), p.cell_pair.end()), force;
               for (std::size_t k = 0; k < p.cell_pressure_MPa.size(); ++k)
                 force.push_back(p.cell_pressure_MPa[k] * p.cell_area_mm2[k]);
@@ -884,12 +883,12 @@ namespace hertzgear::stiffness
                                          {{"contact_pressure_MPa", p.cell_pressure_MPa},
                                           {"cell_force_N", force},
                                           {"pair", pair}});
-            });
+            }, true);
           }
-        fem::on_root(MPI_COMM_WORLD, [&] {
+        processes::agree([&] {
           fem::write_pvd(partial / (name + ".pvd"), fields);
           fem::write_pvd(partial / (name + "_contact.pvd"), contact_files);
-        });
+        }, true);
         progress_line("stiffness", msg(name, " fields: ", fields.size(), " positions"));
       }
 

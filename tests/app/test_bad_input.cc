@@ -14,6 +14,7 @@
 // load (5) 1, a folder in use (6) 5, the report's trust (7) 3, leftovers and durability (10) 4
 // (leftover temporaries, a manifest that vouches for nothing, `stiffness` stopped by SIGINT and
 // by SIGKILL). 85 cases in all; every class has at least three.
+#include "tests/support/held_folder.h"
 #include "tests/support/run_command.h"
 
 #include <gmock/gmock.h>
@@ -125,38 +126,6 @@ namespace
   {
     static const Fixtures f;
     return f;
-  }
-
-  // Holds DIR's lock as a running hertzgear process does: a flock on DIR/.hertzgear.lock with
-  // the holder's process number inside, for the life of the object.
-  class HeldFolder
-  {
-  public:
-    explicit HeldFolder(const fs::path &dir) : pid(std::to_string(::getpid()))
-    {
-      fs::create_directories(dir);
-      fd = ::open((dir / ".hertzgear.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-      EXPECT_GE(fd, 0);
-      EXPECT_EQ(::flock(fd, LOCK_EX), 0);
-      EXPECT_EQ(::pwrite(fd, pid.data(), pid.size(), 0), static_cast<ssize_t>(pid.size()));
-    }
-    ~HeldFolder() { ::close(fd); }
-    HeldFolder(const HeldFolder &)            = delete;
-    HeldFolder &operator=(const HeldFolder &) = delete;
-    const std::string pid;
-
-  private:
-    int fd = -1;
-  };
-
-  // Every file below DIR with its content.
-  std::map<std::string, std::string> contents_below(const fs::path &dir)
-  {
-    std::map<std::string, std::string> files;
-    for (const auto &e : fs::recursive_directory_iterator(dir))
-      if (e.is_regular_file())
-        files[fs::relative(e.path(), dir).string()] = slurp(e.path());
-    return files;
   }
 
   // Requirement: `command` on DIR, which another process holds, exits 2 at once naming that

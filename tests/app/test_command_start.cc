@@ -11,6 +11,7 @@
 //   within seconds (a hang guard turns a rank that waits forever into a failure).
 // The MPI cases run by ctest as app.command_start_mpi2 (HERTZGEAR_TEST_MPI=1, mpirun allowed as
 // root); elsewhere they are skipped.
+#include "tests/support/held_folder.h"
 #include "tests/support/run_command.h"
 
 #include <gmock/gmock.h>
@@ -33,7 +34,6 @@ namespace fs = std::filesystem;
 namespace
 {
   std::string quoted(const fs::path &p) { return "'" + p.string() + "'"; }
-  std::string this_test() { return ::testing::UnitTest::GetInstance()->current_test_info()->name(); }
 
   // Seconds a command of these tests may take before the guard stops it: the slowest case (the
   // coarse 2D FE run on two ranks) takes a few seconds on two cores; a hang takes for ever.
@@ -54,37 +54,6 @@ namespace
                                " --set Stiffness/positions_per_cycle=5 --set Stiffness/harmonics=2"
                                " --set Output/write_fields=false --set Output/report=false"
                                " --set Dynamics/periods=40 --set Dynamics/transient_periods=20";
-
-  // Holds DIR's lock as a running hertzgear process does: a flock on DIR/.hertzgear.lock with the
-  // holder's process number inside, for the life of the object.
-  class HeldFolder
-  {
-  public:
-    explicit HeldFolder(const fs::path &dir) : pid(std::to_string(::getpid()))
-    {
-      fs::create_directories(dir);
-      fd = ::open((dir / ".hertzgear.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-      EXPECT_GE(fd, 0);
-      EXPECT_EQ(::flock(fd, LOCK_EX), 0);
-      EXPECT_EQ(::pwrite(fd, pid.data(), pid.size(), 0), static_cast<ssize_t>(pid.size()));
-    }
-    ~HeldFolder() { ::close(fd); }
-    HeldFolder(const HeldFolder &)            = delete;
-    HeldFolder &operator=(const HeldFolder &) = delete;
-    const std::string pid;
-
-  private:
-    int fd = -1;
-  };
-
-  std::map<std::string, std::string> contents_below(const fs::path &dir)
-  {
-    std::map<std::string, std::string> files;
-    for (const auto &e : fs::recursive_directory_iterator(dir))
-      if (e.is_regular_file())
-        files[fs::relative(e.path(), dir).string()] = slurp(e.path());
-    return files;
-  }
 
   std::size_t occurrences(const std::string &text, const std::string &what)
   {
