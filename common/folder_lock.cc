@@ -66,6 +66,10 @@ namespace hertzgear
     if (fs::exists(directory, ec) && !fs::is_directory(directory, ec))
       throw InputError(msg(name, ": is a file, not a folder"));
     first_created = outermost_missing(directory);
+    // A file where a folder above must be: name it (the system would say "Not a directory").
+    const fs::path existing = first_created.empty() ? fs::path() : first_created.parent_path();
+    if (!existing.empty() && fs::exists(existing, ec) && !fs::is_directory(existing, ec))
+      throw InputError(msg(name, ": ", existing.string(), " is a file, not a folder"));
     fs::create_directories(directory, ec);
     if (ec)
       throw InputError(msg(name, ": cannot create the folder: ", ec.message()));
