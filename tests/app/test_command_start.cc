@@ -126,14 +126,15 @@ TEST(CommandStart, TwoOverlappingRunsOfOneCommandCannotBothWrite)
   // ends normally with its artifacts. The first run is given work for several seconds; the
   // second starts as soon as the first holds the lock (its number in the lock file).
   const std::vector<Command> long_runs = {
-    {"sweep", "sweep " + fourier_scene + " --threads 1 --set Sweep/points=40 --set Sweep/speed_min_rpm=100"
+    {"sweep", "sweep " + fourier_scene + " --threads 1 --set Sweep/points=80 --set Sweep/speed_min_rpm=100"
               " --set Sweep/speed_max_rpm=20000 --set Sweep/periods_per_point=200"
               " --set Sweep/transient_periods_per_point=100 --set Sweep/mode=independent", "sweep.csv"},
-    {"dynamics", "dynamics " + fourier_scene + " --set Dynamics/periods=6000 --set Output/timeseries_periods=5",
+    {"dynamics", "dynamics " + fourier_scene + " --set Dynamics/periods=12000 --set Output/timeseries_periods=5",
      "summary.json"},
     {"response", "response " + fourier_scene + " --set Response/parameter=speed_rpm"
                  " --set Sweep/speed_min_rpm=1000 --set Sweep/speed_max_rpm=20000"
-                 " --set Dynamics/relative_tolerance=1e-11 --set Response/newton_tolerance=1e-9",
+                 " --set Dynamics/relative_tolerance=1e-11 --set Response/newton_tolerance=1e-9"
+                 " --set Response/step_max=0.002 --set Response/max_points_per_branch=20000",
      "response.json"}};
   for (const auto &c : long_runs)
     {
