@@ -69,7 +69,8 @@ namespace hertzgear
     // A file where a folder above must be: name it (the system would say "Not a directory").
     const fs::path existing = first_created.empty() ? fs::path() : first_created.parent_path();
     if (!existing.empty() && fs::exists(existing, ec) && !fs::is_directory(existing, ec))
-      throw InputError(msg(name, ": ", existing.string(), " is a file, not a folder"));
+      throw InputError(msg(name, ": cannot create the folder: ", existing.string(),
+                           " is a file, not a folder (", std::strerror(ENOTDIR), ")"));
     fs::create_directories(directory, ec);
     if (ec)
       throw InputError(msg(name, ": cannot create the folder: ", ec.message()));
