@@ -173,6 +173,7 @@ namespace hertzgear
     const auto   &op = scene.operating;
     auto &p                = s.parameters;
     p.stiffness            = stiffness_table_for(scene);
+    p.effects.mesh_force_law = dynamics::mesh_force_law_from_name(scene.effects.mesh_force_law);
     p.effects.backlash     = scene.effects.backlash == "on";
     p.effects.hertzian_layer  = dynamics::hertzian_layer_from_name(scene.effects.hertzian_layer);
     p.effects.contact_damping = dynamics::contact_damping_from_name(scene.effects.contact_damping);

@@ -182,6 +182,12 @@ namespace hertzgear
     {
       s.enter("Effects", "Which physical effects the dynamics model contains. An effect that is "
                          "off is absent from the equations and the state.");
+      s.add("mesh_force_law", e.mesh_force_law, "serial-hertz",
+            Patterns::Selection("serial-hertz|fe-map"),
+            "Force law of the mesh's two springs in series: serial-hertz (the paper's: the "
+            "structural spring k u and the Hertzian layer k_h G(delta), fitted at the nominal "
+            "torque) or fe-map (each spring's force interpolated in the stiffness table's FE load "
+            "ladder, which Stiffness/source = fem makes; docs/dynamics.md).");
       s.add("backlash", e.backlash, "on", Patterns::Selection("on|off"),
             "Backlash non-linearity f(x) with half backlash b_c: on (contact loss and back-side "
             "impacts) or off (always in contact; no separation events).");
@@ -276,6 +282,14 @@ namespace hertzgear
       s.add("linear_solver_tolerance", st.linear_solver_tolerance, 1.0e-10,
             Patterns::Double(1.0e-16, 1.0e-2),
             "Relative residual tolerance of the iterative linear solver [dimensionless].");
+      s.add("load_ladder_percent", st.load_ladder_percent,
+            {2.0, 5.0, 10.0, 20.0, 35.0, 50.0, 70.0, 100.0, 140.0, 200.0, 280.0, 400.0},
+            Patterns::List(Patterns::Double(-1.0e6, 1.0e4), 0, 64, ","),
+            "Loads of the FE load ladder [% of Operating/torque_Nm], comma separated, at least 2, "
+            "increasing, each > 0, the last >= 100: the mesh cycle runs again at each on the same "
+            "FE bodies when Effects/mesh_force_law = fe-map (and only then; source = fem), from "
+            "near first touch to above the largest dynamic load (docs/dynamics.md, \"The FE force "
+            "law\").");
       {
         auto &f                      = st.fourier;
         s.enter("Map", "Load and design map of the FE contact analysis (source = fem): further "
@@ -592,6 +606,11 @@ namespace hertzgear
                            "Stiffness/table_file is empty but Stiffness/source = table or "
                            "Effects/ste_excitation = table needs a stiffness JSON file");
         }
+      HG_REQUIRE_INPUT(sc.effects.mesh_force_law != "fe-map" || st.source == "fem" ||
+                         st.source == "table",
+                       "Effects/mesh_force_law = fe-map needs the load ladder of an FE contact "
+                       "analysis, which Stiffness/source = fem makes (or source = table with a "
+                       "table that holds one); Stiffness/source = ", st.source, " makes none");
       if (st.source == "fourier")
         {
           HG_REQUIRE_INPUT(st.fourier.k_hertz_amplitudes_N_per_m_pow_n.size() ==

@@ -47,6 +47,7 @@ namespace hertzgear
 
   struct EffectsScene
   {
+    std::string mesh_force_law;           // serial-hertz | fe-map
     std::string backlash;                 // on | off
     std::string hertzian_layer;           // dynamic | quasi-static | off
     std::string contact_damping;          // hunt-crossley | lankarani-nikravesh | viscous-only
@@ -89,6 +90,7 @@ namespace hertzgear
     FourierScene          fourier;
     // Load and design map of the FE source: extra contact cycles on the same bodies.
     std::vector<double> map_torque_percent;        // of Operating/torque_Nm
+    std::vector<double> load_ladder_percent;       // of Operating/torque_Nm (fe-map)
     std::vector<double> map_crowning_um;           // pinion lead crowning variants
     std::vector<double> map_mesh_misalignment_um;  // mesh misalignment variants
   };

@@ -131,6 +131,29 @@ namespace hertzgear
     return fit_fourier_series(phases, uniform_samples, n_harmonics);
   }
 
+  FourierSeries interpolate_fourier_series(const std::vector<double> &y)
+  {
+    const std::size_t S = y.size();
+    HG_REQUIRE_INPUT(S >= 1, "Fourier interpolation: no samples");
+    // Below the Nyquist order the least-squares fit of uniform samples is the discrete transform
+    // itself; the Nyquist cosine, orthogonal to all of them at the samples, completes it.
+    FourierSeries series = fit_fourier_series(y, static_cast<unsigned>((S - 1) / 2));
+    if (S % 2 == 0)
+      {
+        double a = 0.0;
+        for (std::size_t k = 0; k < S; ++k)
+          a += (k % 2 == 0 ? y[k] : -y[k]);
+        a /= double(S);
+        series.amplitudes.push_back(std::abs(a));
+        series.phases_rad.push_back(a < 0.0 ? M_PI : 0.0);
+      }
+    double sum = 0.0;
+    for (std::size_t k = 0; k < S; ++k)
+      sum += std::pow(series.at_phase(double(k) / S) - y[k], 2);
+    series.residual_rms = std::sqrt(sum / S);
+    return series;
+  }
+
   nlohmann::json fourier_series_json(const FourierSeries &s, const bool with_residual)
   {
     nlohmann::json j = {{"mean", s.mean}, {"amplitudes", s.amplitudes}, {"phases_rad", s.phases_rad}};

@@ -66,6 +66,12 @@ namespace hertzgear
   FourierSeries fit_fourier_series(const std::vector<double> &uniform_samples,
                                    unsigned int n_harmonics);
 
+  // The trigonometric interpolant of samples at the uniform phases k / S, k = 0..S-1: the series
+  // through every sample, with floor(S / 2) harmonics (for even S the last, at the Nyquist
+  // order S / 2, is the cosine term of half the discrete transform's weight, phase 0 or pi).
+  // Throws InputError without samples.
+  FourierSeries interpolate_fourier_series(const std::vector<double> &uniform_samples);
+
   // {"mean", "amplitudes", "phases_rad"} (and "residual_rms" when asked).
   nlohmann::json fourier_series_json(const FourierSeries &series, bool with_residual = false);
   // Reads that form; `where` names the object in messages. Missing phases are zero; amplitude

@@ -22,12 +22,15 @@ namespace hertzgear::dynamics
       {"hunt-crossley", ContactDamping::hunt_crossley},
       {"lankarani-nikravesh", ContactDamping::lankarani_nikravesh},
       {"viscous-only", ContactDamping::viscous_only}};
+    const NameTable<MeshForceLawKind, 2> mesh_force_law_names = {
+      {"serial-hertz", MeshForceLawKind::serial_hertz}, {"fe-map", MeshForceLawKind::fe_map}};
   } // namespace
 
   std::string Effects::describe() const
   {
     std::ostringstream os;
-    os << "backlash=" << (backlash ? "on" : "off")
+    os << "mesh_force_law=" << name_of(mesh_force_law, mesh_force_law_names)
+       << " backlash=" << (backlash ? "on" : "off")
        << " hertzian_layer=" << name_of(hertzian_layer, hertzian_layer_names)
        << " contact_damping=" << name_of(contact_damping, contact_damping_names)
        << " mesh_stiffness_variation=" << (mesh_stiffness_variation ? "fourier" : "constant")
@@ -44,6 +47,11 @@ namespace hertzgear::dynamics
   ContactDamping contact_damping_from_name(const std::string &name)
   {
     return from_name(name, contact_damping_names, "contact_damping");
+  }
+
+  MeshForceLawKind mesh_force_law_from_name(const std::string &name)
+  {
+    return from_name(name, mesh_force_law_names, "mesh_force_law");
   }
 
   double equivalent_mass(const double I1, const double I2, const double rb1, const double rb2)
@@ -99,7 +107,17 @@ namespace hertzgear::dynamics
     if (!prm.effects.rest_stiffness_variation)
       prm.stiffness.k_rest_N_per_m = prm.stiffness.k_rest_N_per_m.constant_part();
 
-    law          = serial_hertz_law(prm.stiffness);
+    if (prm.effects.mesh_force_law == MeshForceLawKind::fe_map)
+      {
+        // The ladder holds the two members apart: the law has no form without the layer.
+        HG_REQUIRE_INPUT(prm.effects.hertzian_layer != HertzianLayer::off && !prm.rigid_structure,
+                         "{mesh_force_law} = fe-map is the structural member in series with the "
+                         "Hertzian layer: it needs {hertzian_layer} = dynamic or quasi-static");
+        law = fe_map_law(prm.stiffness, prm.effects.rest_stiffness_variation,
+                         prm.effects.mesh_stiffness_variation);
+      }
+    else
+      law = serial_hertz_law(prm.stiffness);
     n_law_taylor = 3 * law->n_phase_coefficients();
     if (prm.effects.ste_excitation)
       ste_series = FourierEvaluator(prm.stiffness.unloaded_ste_m);
@@ -490,7 +508,7 @@ namespace hertzgear::dynamics
     return b;
   }
 
-  MeshState GearPairModel::mesh_state(const double t, const double *y) const
+  MeshState GearPairModel::mesh_state(const double t, const double *y, const bool with_energy) const
   {
     const Forces r = evaluate(t, y);
     MeshState    s;
@@ -499,6 +517,8 @@ namespace hertzgear::dynamics
     s.penetration_m    = r.penetration;
     s.force_N          = r.force;
     s.contact          = r.layer_closed ? r.zone : 0;
+    if (!with_energy)
+      return s;
     const MeshPhase phase = coefficients(t).law;
     const double    c     = prm.damping_N_s_per_m;
     const double layer_closed = r.layer_closed ? 1.0 : 0.0;

@@ -31,8 +31,16 @@ namespace hertzgear::dynamics
     viscous_only
   };
 
+  // Which law gives the forces of the mesh's two springs (dynamics/mesh_force_law.h).
+  enum class MeshForceLawKind
+  {
+    serial_hertz, // the paper's: k(t) u in series with k_h(t) G(delta)
+    fe_map        // the FE load ladder of the stiffness table
+  };
+
   struct Effects
   {
+    MeshForceLawKind mesh_force_law         = MeshForceLawKind::serial_hertz;
     bool           backlash                 = true;
     HertzianLayer  hertzian_layer           = HertzianLayer::dynamic;
     ContactDamping contact_damping          = ContactDamping::hunt_crossley;
@@ -46,6 +54,7 @@ namespace hertzgear::dynamics
 
   HertzianLayer  hertzian_layer_from_name(const std::string &name);
   ContactDamping contact_damping_from_name(const std::string &name);
+  MeshForceLawKind mesh_force_law_from_name(const std::string &name);
 
   struct GearPairParameters
   {
@@ -85,8 +94,8 @@ namespace hertzgear::dynamics
     double penetration_m = 0.0; // delta (dynamic or quasi-static layer), f(x) when rigid, else 0
     double force_N       = 0.0; // F
     int    contact       = 0;   // 1 forward, 0 no force-carrying contact, -1 back side
-    double dissipation_W = 0.0; // c u'^2 + mu H(delta) delta'^2 (>= 0)
-    double elastic_energy_J = 0.0; // k u^2 / 2 + k_h |delta|^(n+1) / (n+1)
+    double dissipation_W = 0.0; // c u'^2 + mu H(delta) delta'^2 (>= 0); with_energy only
+    double elastic_energy_J = 0.0; // k u^2 / 2 + k_h |delta|^(n+1) / (n+1) (serial law); with_energy only
   };
 
   class GearPairModel : public OdeSystem
@@ -95,7 +104,7 @@ namespace hertzgear::dynamics
     explicit GearPairModel(GearPairParameters parameters);
 
     const GearPairParameters &parameters() const { return prm; }
-    // The force law of the mesh's two springs (the paper's serial Hertz law).
+    // The force law of the mesh's two springs (Effects::mesh_force_law).
     const MeshForceLaw &mesh_force_law() const { return *law; }
 
     unsigned n_states() const override { return has_delta_state ? 3 : 2; }
@@ -118,7 +127,9 @@ namespace hertzgear::dynamics
     // delta, and that times the highest natural frequency plus the mesh frequency for x'.
     std::vector<double> state_scales() const;
 
-    MeshState mesh_state(double t, const double *y) const;
+    // The energies (elastic_energy_J, dissipation_W) only when asked: an FE force law integrates
+    // its energy numerically, far dearer than the forces the samples need.
+    MeshState mesh_state(double t, const double *y, bool with_energy = false) const;
 
     // Static equilibrium under F_0 with the mean stiffness (forward contact; the middle of the
     // backlash when F_0 = 0).

@@ -15,6 +15,7 @@
 //   coefficients, at every evaluation.
 #include "table/stiffness_table.h"
 
+#include <limits>
 #include <memory>
 
 namespace hertzgear::dynamics
@@ -86,10 +87,25 @@ namespace hertzgear::dynamics
     virtual void static_compressions(double force, double &u, double &delta) const = 0;
     // An upper bound of dK_r/du over the cycle at the loads the model sees (for state scales).
     virtual double structural_stiffness_bound() const = 0;
+    // The largest force the law's data cover (N): above it the law extrapolates, and an analysis
+    // that sees a larger mesh force says so. Infinite for a closed-form law.
+    virtual double tabulated_force_limit() const
+    {
+      return std::numeric_limits<double>::infinity();
+    }
   };
 
   // The paper's law (docs/dynamics.md): a structural spring linear in u with stiffness k(theta)
   // and the Hertzian layer K_h = k_h(theta) G(delta), G(delta) = sign(delta) |delta|^n, damping
   // weight H(delta) = |delta|^n, from the table's Fourier series and exponent n.
   std::shared_ptr<const MeshForceLaw> serial_hertz_law(const table::StiffnessTable &table);
+
+  // The FE force law (docs/dynamics.md, "The FE force law"): the same serial mesh with each
+  // member's force interpolated in the table's load ladder (structural part a - a_h, Hertzian
+  // part a_h), monotone and C1 in the compression, the trigonometric interpolant of the
+  // positions over the mesh cycle; H(delta) = |delta|^n as in the serial law. A member that does
+  // not vary takes its secant coefficients' means over the cycle. Throws InputError for a table
+  // without a ladder, or a ladder whose interpolant over the cycle does not grow with the load.
+  std::shared_ptr<const MeshForceLaw> fe_map_law(const table::StiffnessTable &table,
+                                                 bool structural_varies, bool hertz_varies);
 } // namespace hertzgear::dynamics

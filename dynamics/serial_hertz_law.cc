@@ -2,6 +2,7 @@
 // layer k_h(theta) G(delta), both from the stiffness table's Fourier series (docs/dynamics.md).
 #include "common/fourier_series.h"
 #include "dynamics/mesh_force_law.h"
+#include "dynamics/power_law.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,30 +11,10 @@ namespace hertzgear::dynamics
 {
   namespace
   {
-    double sign(const double v) { return (v > 0.0) - (v < 0.0); }
-    // a^p for a >= 0, with the exponents of line and point contact (1, 3/2 and their
-    // derivatives' 0, 1/2) written out: the right-hand side evaluates them at every stage.
-    double power(const double a, const double p)
-    {
-      if (p == 1.0)
-        return a;
-      if (p == 1.5)
-        return a * std::sqrt(a);
-      if (p == 0.5)
-        return std::sqrt(a);
-      if (p == 0.0)
-        return 1.0;
-      return std::pow(a, p);
-    }
-    // G(delta) = sign(delta)|delta|^n, H(delta) = |delta|^n and their derivatives.
-    double G_prime(const double d, const double n)
-    {
-      return n == 1.0 ? 1.0 : n * power(std::abs(d), n - 1.0);
-    }
-    double H_prime(const double d, const double n)
-    {
-      return n == 1.0 ? sign(d) : n * sign(d) * power(std::abs(d), n - 1.0);
-    }
+    using power_law::G_prime;
+    using power_law::H_prime;
+    using power_law::power;
+    using power_law::sign;
 
     // Phase coefficients: 0 the structural stiffness k [N/m], 1 the Hertzian stiffness k_h
     // [N/m^n].

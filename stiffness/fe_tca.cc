@@ -472,6 +472,7 @@ namespace hertzgear::stiffness
         solve_contact_cycle();
         solve_extra_contact_grids();
         solve_map();
+        solve_load_ladder();
         if (!fe.fields_dir.empty())
           write_fields();
         return fit();
@@ -499,6 +500,9 @@ namespace hertzgear::stiffness
       double                                   cycle_time_s = 0;
       std::vector<double>                      extra_cycle_time_s;
       std::vector<MapCase>                     map;
+      // The load ladder's cycles (the scene's own cycle at 100 %) and their contact time.
+      std::vector<contact::MeshCycleResult>    ladder;
+      double                                   ladder_time_s = 0;
       fs::path                                 fields_partial_dir;
 
       static std::string body_name(const unsigned int b) { return b == 0 ? "pinion" : "gear"; }
@@ -818,6 +822,75 @@ namespace hertzgear::stiffness
           }
       }
 
+      // The load ladder of the FE force law: the mesh cycle at every load of the ladder on the
+      // same FE bodies (the scene's own cycle serves 100 %).
+      void solve_load_ladder()
+      {
+        const auto &percents = input.load_ladder_percent;
+        if (percents.empty())
+          return;
+        PhaseTimer::Scope scope(timer, "load ladder");
+        const auto        start = std::chrono::steady_clock::now();
+        for (std::size_t j = 0; j < percents.size(); ++j)
+          {
+            const auto t0      = std::chrono::steady_clock::now();
+            const bool nominal = percents[j] == 100.0;
+            ladder.push_back(nominal ? cycle :
+                                       solve_cycle(cycle_settings, *kin, load_N * percents[j] / 100.0,
+                                                   false));
+            double a_min = 1e300, a_max = 0, ah_mean = 0, a_mean = 0;
+            for (const auto &p : ladder.back().positions)
+              {
+                a_min = std::min(a_min, p.approach_mm);
+                a_max = std::max(a_max, p.approach_mm);
+                a_mean += p.approach_mm / ladder.back().positions.size();
+                ah_mean += p.hertz_penetration_mm / ladder.back().positions.size();
+              }
+            std::ostringstream line;
+            line << "ladder " << j + 1 << "/" << percents.size() << "  load " << std::setprecision(5)
+                 << ladder.back().load_N << " N (" << percents[j] << " %):  approach "
+                 << std::fixed << std::setprecision(3) << a_min * 1e3 << " .. " << a_max * 1e3
+                 << " um, Hertzian part " << std::setprecision(1) << 100.0 * ah_mean / a_mean
+                 << " %  (";
+            if (nominal)
+              line << "the scene's cycle)";
+            else
+              line << std::setprecision(2) << seconds_since(t0) << " s)";
+            progress_line("stiffness", line.str());
+          }
+        ladder_time_s = seconds_since(start);
+      }
+
+      // The ladder's table entry (SI). The contact analysis must give approaches that grow with
+      // the load: where it does not, its contact grid is too coarse for rungs that close.
+      table::LoadLadder load_ladder() const
+      {
+        table::LoadLadder l;
+        l.nominal_load_N = load_N;
+        for (const auto &c : ladder)
+          {
+            l.load_N.push_back(c.load_N);
+            l.approach_m.emplace_back();
+            l.hertz_approach_m.emplace_back();
+            for (const auto &p : c.positions)
+              {
+                l.approach_m.back().push_back(p.approach_mm * 1e-3);
+                l.hertz_approach_m.back().push_back(p.hertz_penetration_mm * 1e-3);
+              }
+          }
+        try
+          {
+            l.check("the FE load ladder");
+          }
+        catch (const InputError &e)
+          {
+            throw NumericalError(msg(e.what(), ". A finer contact grid ({contact_grid_profile_cells}, "
+                                               "{contact_grid_face_cells}) or loads further apart "
+                                               "({load_ladder_percent}) resolve it"));
+          }
+        return l;
+      }
+
       void report_map_case(const std::size_t c, const std::size_t n_cases, const MapCase &mc) const
       {
         double ste_min = 1e300, ste_max = -1e300, p_max = 0;
@@ -905,6 +978,13 @@ namespace hertzgear::stiffness
         r.fields_partial_dir = fields_partial_dir;
         r.pattern            = pattern_of_cycle(cycle);
         r.map                = map;
+        if (!ladder.empty())
+          {
+            r.table.ladder = load_ladder();
+            r.notes["load_ladder"] = {{"rungs", ladder.size()},
+                                      {"load_percent", input.load_ladder_percent},
+                                      {"contact_time_s", ladder_time_s}};
+          }
         r.face_width_mm      = kin->face_width_mm();
         r.pinion_active_roll_min_mm = kin->point('A').roll_distance_mm;
         r.pinion_active_roll_max_mm = kin->point('E').roll_distance_mm;
@@ -988,6 +1068,7 @@ namespace hertzgear::stiffness
                                    " mm): the half-space cannot stand for the local deformation "
                                    "of a tooth that deep"));
         check_map(input);
+        check_load_ladder(input);
         loaded_teeth(input, meshing::PairKinematics(input.pair));
         if (fe.table_roll_nodes == 1)
           throw ParameterError("table_roll_nodes", "1: the compliance table needs at least 2 nodes "

@@ -72,4 +72,27 @@ namespace hertzgear::stiffness
                                    " um: ", e.what()));
         }
   }
+
+  void check_load_ladder(const StiffnessInput &in)
+  {
+    const auto &l = in.load_ladder_percent;
+    if (l.empty())
+      return;
+    if (l.size() < 2)
+      throw ParameterError("load_ladder_percent",
+                           msg(l.size(), " load: the FE force law interpolates between at least 2"));
+    for (std::size_t j = 0; j < l.size(); ++j)
+      {
+        if (!(l[j] > 0))
+          throw ParameterError("load_ladder_percent",
+                               msg(l[j], ": every load of the ladder must be positive (% of {torque_Nm})"));
+        if (j > 0 && !(l[j] > l[j - 1]))
+          throw ParameterError("load_ladder_percent",
+                               msg(l[j - 1], ", then ", l[j], ": the loads of the ladder must increase"));
+      }
+    if (l.back() < 100.0)
+      throw ParameterError("load_ladder_percent",
+                           msg(l.back(), " %: the ladder does not reach the nominal load (100 % of "
+                                         "{torque_Nm}); the dynamics visit loads up to several times it"));
+  }
 } // namespace hertzgear::stiffness

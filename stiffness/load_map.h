@@ -21,4 +21,8 @@ namespace hertzgear::stiffness
   // Before any work: every torque positive, variants along the face only in 3D, and every case a
   // pair the kinematics accept. Throws ParameterError naming the map's field.
   void check_map(const StiffnessInput &input);
+
+  // Before any work: a load ladder of at least 2 positive, increasing loads whose top reaches
+  // the nominal torque (100 %). Throws ParameterError naming load_ladder_percent.
+  void check_load_ladder(const StiffnessInput &input);
 } // namespace hertzgear::stiffness

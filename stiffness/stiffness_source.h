@@ -76,6 +76,10 @@ namespace hertzgear::stiffness
     std::vector<double> torque_map_percent;
     std::vector<double> crowning_map_mm;
     std::vector<double> misalignment_map_mm;
+    // The load ladder of the FE force law (source fem; docs/dynamics.md "The FE force law"): the
+    // mesh cycle again at each of these loads [% of torque_Nm], increasing, the top >= 100, on the
+    // same bodies, into the table's load_ladder. Empty: no ladder.
+    std::vector<double> load_ladder_percent;
     bool has_map() const
     {
       return !torque_map_percent.empty() || !crowning_map_mm.empty() || !misalignment_map_mm.empty();

@@ -23,6 +23,56 @@ namespace hertzgear::table
     }
   } // namespace
 
+  void LoadLadder::check(const std::string &where) const
+  {
+    const std::size_t J = load_N.size(), S = n_positions();
+    HG_REQUIRE_INPUT(J >= 2, where, ": a load ladder needs at least 2 loads (load_N has ", J, ")");
+    HG_REQUIRE_INPUT(approach_m.size() == J && hertz_approach_m.size() == J, where, ": ", J,
+                     " loads but ", approach_m.size(), " rows of approach_m and ",
+                     hertz_approach_m.size(), " of hertz_approach_m");
+    HG_REQUIRE_INPUT(S >= 1, where, ": approach_m has no positions");
+    for (std::size_t j = 0; j < J; ++j)
+      HG_REQUIRE_INPUT(approach_m[j].size() == S && hertz_approach_m[j].size() == S, where,
+                       ": the rung at ", load_N[j], " N has ", approach_m[j].size(),
+                       " approaches and ", hertz_approach_m[j].size(),
+                       " Hertzian parts; the first rung has ", S, " positions");
+    HG_REQUIRE_INPUT(load_N[0] > 0.0 && std::isfinite(load_N[0]), where,
+                     ": the loads must be positive (the first is ", load_N[0], " N)");
+    for (std::size_t j = 1; j < J; ++j)
+      HG_REQUIRE_INPUT(load_N[j] > load_N[j - 1] && std::isfinite(load_N[j]), where,
+                       ": the loads must increase (", load_N[j - 1], " N, then ", load_N[j], " N)");
+    HG_REQUIRE_INPUT(nominal_load_N > 0.0, where, ": nominal_load_N = ", nominal_load_N,
+                     " N must be positive");
+    HG_REQUIRE_INPUT(load_N.back() >= nominal_load_N, where, ": the ladder does not reach the "
+                     "nominal load: its top is ", load_N.back(), " N, the nominal load ",
+                     nominal_load_N, " N");
+    // a, a_h and a - a_h per rung and position; each positive and growing with the load.
+    for (std::size_t s = 0; s < S; ++s)
+      for (std::size_t j = 0; j < J; ++j)
+        {
+          const double a = approach_m[j][s], ah = hertz_approach_m[j][s];
+          const auto   at = [&](const std::size_t r) {
+            return msg("position ", s, " (mesh phase ", double(s) / S, ") at ", load_N[r], " N");
+          };
+          HG_REQUIRE_INPUT(std::isfinite(a) && std::isfinite(ah) && ah > 0.0 && a > ah, where,
+                           ": at ", at(j), " the approach ", a * 1e6, " um and its Hertzian part ",
+                           ah * 1e6, " um must be positive with the Hertzian part the smaller");
+          if (j == 0)
+            continue;
+          const double a0 = approach_m[j - 1][s], ah0 = hertz_approach_m[j - 1][s];
+          HG_REQUIRE_INPUT(a > a0, where, ": the approach does not grow with the load at ", at(j),
+                           ": ", a * 1e6, " um against ", a0 * 1e6, " um at ", load_N[j - 1], " N");
+          HG_REQUIRE_INPUT(ah > ah0, where, ": the Hertzian approach does not grow with the load at ",
+                           at(j), ": ", ah * 1e6, " um against ", ah0 * 1e6, " um at ",
+                           load_N[j - 1], " N");
+          HG_REQUIRE_INPUT(a - ah > a0 - ah0, where,
+                           ": the structural approach (approach minus Hertzian part) does not "
+                           "grow with the load at ",
+                           at(j), ": ", (a - ah) * 1e6, " um against ", (a0 - ah0) * 1e6,
+                           " um at ", load_N[j - 1], " N");
+        }
+  }
+
   void StiffnessTable::check() const
   {
     HG_REQUIRE_INPUT(hertz_exponent >= 1.0 && hertz_exponent <= 2.0,
@@ -43,6 +93,8 @@ namespace hertzgear::table
                      "stiffness table: the harmonics of k_h (sum of amplitudes ",
                      k_hertz_N_per_m_pow_n.amplitude_bound(), ") may make k_h negative (mean ",
                      k_hertz_N_per_m_pow_n.mean, ")");
+    if (!ladder.empty())
+      ladder.check("stiffness table: load_ladder");
   }
 
   StiffnessTable stiffness_table_from_json_text(const std::string &text, const std::string &where)
@@ -112,6 +164,16 @@ namespace hertzgear::table
                          ": needs 'k_hertz_N_per_m_pow_n' (Fourier) or samples.k_hertz_N_per_m_pow_n");
         t.has_unloaded_ste =
           series_or_fit("unloaded_ste_m", t.samples.unloaded_ste_m, t.unloaded_ste_m);
+        if (j.contains("load_ladder"))
+          {
+            const auto &l           = j.at("load_ladder");
+            t.ladder.nominal_load_N = l.at("nominal_load_N").get<double>();
+            t.ladder.load_N         = l.at("load_N").get<std::vector<double>>();
+            t.ladder.approach_m     = l.at("approach_m").get<std::vector<std::vector<double>>>();
+            t.ladder.hertz_approach_m =
+              l.at("hertz_approach_m").get<std::vector<std::vector<double>>>();
+            t.ladder.check(where + ": load_ladder");
+          }
         t.check();
         return t;
       }
@@ -152,6 +214,11 @@ namespace hertzgear::table
         put("unloaded_ste_m", t.samples.unloaded_ste_m);
         j["samples"] = s;
       }
+    if (!t.ladder.empty())
+      j["load_ladder"] = {{"nominal_load_N", t.ladder.nominal_load_N},
+                          {"load_N", t.ladder.load_N},
+                          {"approach_m", t.ladder.approach_m},
+                          {"hertz_approach_m", t.ladder.hertz_approach_m}};
     return j.dump(2) + "\n";
   }
 

@@ -114,3 +114,29 @@ TEST(FourierEvaluator, MatchesTheSeriesAndItsDerivatives)
       EXPECT_NEAR(taylor[2], second, 1e-13 * 400 * scale);
     }
 }
+
+// Requirement: the trigonometric interpolant passes through every uniform sample, for odd and
+// even S (the even case needs the Nyquist cosine), and gives back a series of fewer than S/2
+// harmonics exactly. Both to rounding: the transform of S <= 16 samples of size 1 rounds at a
+// few 1e-16; 1e-12 leaves room.
+TEST(FourierSeries, InterpolantPassesThroughEverySample)
+{
+  for (const std::size_t S : {1u, 2u, 7u, 16u})
+    {
+      std::vector<double> y;
+      for (std::size_t k = 0; k < S; ++k)
+        y.push_back(std::sin(1.0 + 3.7 * k) + 0.3 * (k % 3));
+      const auto series = hertzgear::interpolate_fourier_series(y);
+      EXPECT_EQ(series.n_harmonics(), S / 2);
+      for (std::size_t k = 0; k < S; ++k)
+        EXPECT_NEAR(series.at_phase(double(k) / S), y[k], 1e-12) << "S = " << S << ", k = " << k;
+      EXPECT_LT(series.residual_rms, 1e-12);
+    }
+  const auto exact = hertzgear::fourier_series(2.0, {0.5, 0.25, 0.1}, {0.3, -1.0, 2.0});
+  std::vector<double> samples;
+  for (int k = 0; k < 16; ++k)
+    samples.push_back(exact.at_phase(k / 16.0));
+  const auto back = hertzgear::interpolate_fourier_series(samples);
+  for (const double theta : {0.05, 1.3, 4.0})
+    EXPECT_NEAR(back.value(theta), exact.value(theta), 1e-12);
+}

@@ -12,6 +12,20 @@
 
 namespace hertzgear::dynamics::testing
 {
+  // The phase coefficients at the angle theta as the model keeps them (dth = 0), with w = 1 so
+  // that a rate is the derivative in theta.
+  struct PhaseAt
+  {
+    std::vector<double> taylor;
+    MeshPhase           phase;
+    PhaseAt(const MeshForceLaw &law, const double theta)
+      : taylor(3 * law.n_phase_coefficients())
+    {
+      law.phase_coefficients(std::cos(theta), std::sin(theta), taylor.data());
+      phase = MeshPhase{taylor.data(), 0.0, 1.0};
+    }
+  };
+
   // The crowned pair of data/scenes/paper_crowned_fourier.prm as `hertzgear dynamics` resolves it
   // (m_e from solid discs, F_0 = T_1 / r_b1, c from zeta = 0.015, k_h from Hertz theory).
   inline GearPairParameters paper_crowned()

@@ -10,23 +10,7 @@
 #include <vector>
 
 using namespace hertzgear::dynamics;
-
-namespace
-{
-  // The phase coefficients at the angle theta as the model keeps them (dth = 0), with w = 1 so
-  // that a rate is the derivative in theta.
-  struct PhaseAt
-  {
-    std::vector<double> taylor;
-    MeshPhase           phase;
-    PhaseAt(const MeshForceLaw &law, const double theta)
-      : taylor(3 * law.n_phase_coefficients())
-    {
-      law.phase_coefficients(std::cos(theta), std::sin(theta), taylor.data());
-      phase = MeshPhase{taylor.data(), 0.0, 1.0};
-    }
-  };
-} // namespace
+using hertzgear::dynamics::testing::PhaseAt;
 
 // Requirement: the serial law's derivatives in u, delta and time equal central differences of its
 // forces, for line (n = 1) and point (n = 3/2) contact, compressions of both signs. Step 1e-4 of

@@ -141,7 +141,7 @@ namespace
     void     rhs(const double t, const double *y, double *y_dot) override
     {
       model.rhs(t, y, y_dot);
-      const MeshState s      = model.mesh_state(t, y);
+      const MeshState s      = model.mesh_state(t, y, true);
       y_dot[model.n_states()]     = model.parameters().static_force_N * y[1];
       y_dot[model.n_states() + 1] = s.dissipation_W;
     }
@@ -155,7 +155,7 @@ namespace
     double energy(const double t, const double *y) const
     {
       return 0.5 * model.parameters().equivalent_mass_kg * y[1] * y[1] +
-             model.mesh_state(t, y).elastic_energy_J;
+             model.mesh_state(t, y, true).elastic_energy_J;
     }
 
   private:

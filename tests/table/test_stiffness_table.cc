@@ -36,3 +36,39 @@ TEST(StiffnessTable, JsonRoundTripAndSampledTables)
   EXPECT_THROW(stiffness_table_from_json_text(R"({"hertz_exponent": 3})"), hertzgear::InputError);
   EXPECT_THROW(stiffness_table_from_json_text("{not json"), hertzgear::InputError);
 }
+
+// Requirement: a table's load ladder survives the JSON round trip exactly (17 digits), and a
+// ladder whose approach does not grow with the load is refused on reading, naming the position,
+// its mesh phase and both loads.
+TEST(StiffnessTable, LoadLadderRoundTripAndRefusal)
+{
+  StiffnessTable t;
+  t.hertz_exponent          = 1.5;
+  t.k_rest_N_per_m          = {2.79e8, {}, {}};
+  t.k_hertz_N_per_m_pow_n   = {5.095e10, {}, {}};
+  t.ladder.nominal_load_N   = 1000.0;
+  t.ladder.load_N           = {100.0, 1000.0, 4000.0};
+  t.ladder.approach_m       = {{1e-6, 1.1e-6}, {6e-6, 6.5e-6}, {2e-5, 2.2e-5}};
+  t.ladder.hertz_approach_m = {{0.5e-6, 0.6e-6}, {2e-6, 2.5e-6}, {5e-6, 5.5e-6}};
+  const std::string    text = stiffness_table_to_json_text(t);
+  const StiffnessTable back = stiffness_table_from_json_text(text);
+  EXPECT_EQ(back.ladder.nominal_load_N, t.ladder.nominal_load_N);
+  EXPECT_EQ(back.ladder.load_N, t.ladder.load_N);
+  EXPECT_EQ(back.ladder.approach_m, t.ladder.approach_m);
+  EXPECT_EQ(back.ladder.hertz_approach_m, t.ladder.hertz_approach_m);
+
+  StiffnessTable bad    = t;
+  bad.ladder.approach_m[2][1] = 6.4e-6;
+  try
+    {
+      stiffness_table_from_json_text(stiffness_table_to_json_text(bad), "M/stiffness.json");
+      ADD_FAILURE() << "a ladder whose approach shrinks was accepted";
+    }
+  catch (const hertzgear::InputError &e)
+    {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("M/stiffness.json"), std::string::npos) << m;
+      EXPECT_NE(m.find("position 1 (mesh phase 0.5) at 4000 N"), std::string::npos) << m;
+      EXPECT_NE(m.find("at 1000 N"), std::string::npos) << m;
+    }
+}
