@@ -44,6 +44,7 @@ namespace hertzgear::dynamics
                    const double p, const bool varies, const unsigned first)
         : p(p), first(first)
       {
+        std::vector<FourierSeries> secant; // c_j(theta)
         for (std::size_t j = 0; j < loads.size(); ++j)
           {
             Y.push_back(std::log(loads[j]));
@@ -54,28 +55,62 @@ namespace hertzgear::dynamics
             if (!varies)
               series = series.constant_part();
             mean_secant.push_back(series.mean);
-            secant.emplace_back(series);
+            secant.push_back(series);
+            harmonics = std::max(harmonics, series.n_harmonics());
           }
+        // The series as cosine and sine coefficients, rung-major, `harmonics` per rung.
+        for (const auto &series : secant)
+          for (unsigned h = 0; h < harmonics; ++h)
+            {
+              const bool has = h < series.n_harmonics();
+              cos_coefficient.push_back(has ? series.amplitudes[h] * std::cos(series.phases_rad[h]) : 0.0);
+              sin_coefficient.push_back(has ? series.amplitudes[h] * std::sin(series.phases_rad[h]) : 0.0);
+            }
+        for (std::size_t j = 0; j < Y.size(); ++j)
+          constant_x.push_back((Y[j] - std::log(mean_secant[j])) / p);
       }
 
       std::size_t n_rungs() const { return Y.size(); }
-      bool        varies() const
-      {
-        return std::any_of(secant.begin(), secant.end(),
-                           [](const FourierEvaluator &e) { return !e.constant(); });
-      }
+      bool        varies() const { return harmonics > 0; }
 
-      // The Taylor triples of X_j from those of c_j: X = (Y - log c) / p.
+      // The Taylor triples of X_j from those of c_j: X = (Y - log c) / p. The harmonics of the
+      // angle are computed once for all rungs (recurrence as in FourierEvaluator).
       void phase_coefficients(const double c1, const double s1, double *taylor) const
       {
+        double *x0 = taylor + 3 * first;
+        if (harmonics == 0)
+          {
+            for (std::size_t j = 0; j < Y.size(); ++j)
+              {
+                x0[3 * j]     = constant_x[j];
+                x0[3 * j + 1] = x0[3 * j + 2] = 0.0;
+              }
+            return;
+          }
+        double ch[max_harmonics], sh[max_harmonics];
+        ch[0] = c1;
+        sh[0] = s1;
+        for (unsigned h = 1; h < harmonics; ++h)
+          {
+            ch[h] = ch[h - 1] * c1 - sh[h - 1] * s1;
+            sh[h] = sh[h - 1] * c1 + ch[h - 1] * s1;
+          }
         for (std::size_t j = 0; j < Y.size(); ++j)
           {
-            double c[3];
-            secant[j].taylor(c1, s1, c);
-            double *x = taylor + 3 * (first + j);
-            x[0]      = (Y[j] - std::log(c[0])) / p;
-            x[1]      = -c[1] / (p * c[0]);
-            x[2]      = -(c[2] * c[0] - c[1] * c[1]) / (p * c[0] * c[0]);
+            const double *a = cos_coefficient.data() + j * harmonics;
+            const double *b = sin_coefficient.data() + j * harmonics;
+            double        v = mean_secant[j], d1 = 0.0, d2 = 0.0;
+            for (unsigned h = 0; h < harmonics; ++h)
+              {
+                const double order = double(h + 1), term = a[h] * ch[h] + b[h] * sh[h];
+                v += term;
+                d1 += order * (b[h] * ch[h] - a[h] * sh[h]);
+                d2 -= order * order * term;
+              }
+            double *x = x0 + 3 * j;
+            x[0]      = (Y[j] - std::log(v)) / p;
+            x[1]      = -d1 / (p * v);
+            x[2]      = -(d2 * v - d1 * d1) / (p * v * v);
           }
       }
       // The same at the cycle's mean coefficients (no rates).
@@ -84,7 +119,7 @@ namespace hertzgear::dynamics
         for (std::size_t j = 0; j < Y.size(); ++j)
           {
             double *x = taylor + 3 * (first + j);
-            x[0]      = (Y[j] - std::log(mean_secant[j])) / p;
+            x[0]      = constant_x[j];
             x[1] = x[2] = 0.0;
           }
       }
@@ -283,11 +318,16 @@ namespace hertzgear::dynamics
                 6 * t2 - 6 * t,      3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t};
       }
 
-      std::vector<double>           Y;           // log F_j
-      std::vector<FourierEvaluator> secant;      // c_j(theta)
-      std::vector<double>           mean_secant; // their means over the cycle
-      double                        p;
-      unsigned                      first;
+      // Positions per cycle the law takes (the interpolant's harmonics are at most half of them).
+      static constexpr unsigned max_harmonics = 512;
+
+      std::vector<double>        Y;           // log F_j
+      std::vector<double>        mean_secant; // their means over the cycle
+      std::vector<double>        cos_coefficient, sin_coefficient; // a_jh, b_jh
+      std::vector<double>        constant_x;  // X_j at the mean coefficients
+      unsigned                   harmonics = 0;
+      double                     p;
+      unsigned                   first;
     };
 
     // Phase coefficients: X_j of the structural member (j = 0..J-1), then of the Hertzian one.
@@ -434,6 +474,9 @@ namespace hertzgear::dynamics
                      "the FE force law needs a stiffness table with a load ladder (load_ladder): "
                      "Stiffness/source = fem makes one");
     table.ladder.check("stiffness table: load_ladder");
+    HG_REQUIRE_INPUT(table.ladder.n_positions() <= 1024, "stiffness table: load_ladder: ",
+                     table.ladder.n_positions(), " positions per cycle; the FE force law takes at "
+                     "most 1024");
     return std::make_shared<FeMapLaw>(table, structural_varies, hertz_varies);
   }
 } // namespace hertzgear::dynamics

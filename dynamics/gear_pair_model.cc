@@ -54,6 +54,32 @@ namespace hertzgear::dynamics
     return from_name(name, mesh_force_law_names, "mesh_force_law");
   }
 
+  std::shared_ptr<const MeshForceLaw> make_mesh_force_law(const GearPairParameters &p)
+  {
+    auto table = p.stiffness;
+    if (!p.effects.mesh_stiffness_variation)
+      table.k_hertz_N_per_m_pow_n = table.k_hertz_N_per_m_pow_n.constant_part();
+    if (!p.effects.rest_stiffness_variation)
+      table.k_rest_N_per_m = table.k_rest_N_per_m.constant_part();
+    if (p.effects.mesh_force_law == MeshForceLawKind::fe_map)
+      {
+        // The ladder holds the two members apart: the law has no form without the layer.
+        HG_REQUIRE_INPUT(p.effects.hertzian_layer != HertzianLayer::off && !p.rigid_structure,
+                         "{mesh_force_law} = fe-map is the structural member in series with the "
+                         "Hertzian layer: it needs {hertzian_layer} = dynamic or quasi-static");
+        return fe_map_law(table, p.effects.rest_stiffness_variation,
+                          p.effects.mesh_stiffness_variation);
+      }
+    return serial_hertz_law(table);
+  }
+
+  GearPairParameters with_shared_mesh_force_law(GearPairParameters p)
+  {
+    if (!p.shared_mesh_force_law)
+      p.shared_mesh_force_law = make_mesh_force_law(p);
+    return p;
+  }
+
   double equivalent_mass(const double I1, const double I2, const double rb1, const double rb2)
   {
     HG_REQUIRE_INPUT(I1 > 0.0 && I2 > 0.0 && rb1 > 0.0 && rb2 > 0.0,
@@ -107,24 +133,13 @@ namespace hertzgear::dynamics
     if (!prm.effects.rest_stiffness_variation)
       prm.stiffness.k_rest_N_per_m = prm.stiffness.k_rest_N_per_m.constant_part();
 
-    if (prm.effects.mesh_force_law == MeshForceLawKind::fe_map)
-      {
-        // The ladder holds the two members apart: the law has no form without the layer.
-        HG_REQUIRE_INPUT(prm.effects.hertzian_layer != HertzianLayer::off && !prm.rigid_structure,
-                         "{mesh_force_law} = fe-map is the structural member in series with the "
-                         "Hertzian layer: it needs {hertzian_layer} = dynamic or quasi-static");
-        law = fe_map_law(prm.stiffness, prm.effects.rest_stiffness_variation,
-                         prm.effects.mesh_stiffness_variation);
-      }
-    else
-      law = serial_hertz_law(prm.stiffness);
+    law = prm.shared_mesh_force_law ? prm.shared_mesh_force_law : make_mesh_force_law(prm);
     n_law_taylor = 3 * law->n_phase_coefficients();
     if (prm.effects.ste_excitation)
       ste_series = FourierEvaluator(prm.stiffness.unloaded_ste_m);
     phase_varies = law->varies_with_phase() || !ste_series.constant();
 
-    cache.assign(cache_size, PhaseEntry{});
-    law_taylor.assign(std::size_t(cache_size) * n_law_taylor, 0.0);
+    store = PhaseStore(n_law_taylor);
     cycles_per_s = prm.mesh_frequency_rad_per_s / (2.0 * M_PI);
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
@@ -183,8 +198,8 @@ namespace hertzgear::dynamics
     constexpr auto one    = std::uint64_t(1) << phase_bits;
     const std::uint64_t key = std::uint64_t(frac * double(one) + 0.5) & (one - 1);
     const unsigned slot = unsigned((key * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits));
-    PhaseEntry    &en   = cache[slot];
-    double        *lt   = law_taylor.data() + std::size_t(slot) * n_law_taylor;
+    PhaseEntry    &en   = store.entries[slot];
+    double        *lt   = store.law.get() + std::size_t(slot) * n_law_taylor;
     if (en.key != key)
       {
         en.key  = key;

@@ -67,10 +67,22 @@ namespace hertzgear::dynamics
     double         restitution_coefficient    = 0.9; // Lankarani-Nikravesh
     table::StiffnessTable stiffness;
     Effects        effects;
+    // The force law of `stiffness` and `effects`, when already built: the models of one family
+    // (the points of a sweep, the steps of a continuation), which differ in speed, load or
+    // damping only, share it, since the FE law checks its interpolants when it is built.
+    // Empty: the model builds it. with_shared_mesh_force_law() fills it.
+    std::shared_ptr<const MeshForceLaw> shared_mesh_force_law;
     // Library option, not a scene effect: k -> infinity, i.e. the Hertzian layer alone
     // (delta = f(x), state (x, x')). Used to check a contact law in isolation.
     bool rigid_structure = false;
   };
+
+  // The mesh force law of the parameters' stiffness table and effects (Effects::mesh_force_law;
+  // a spring whose variation effect is off at its mean over the cycle). Throws InputError when
+  // the table cannot serve the law.
+  std::shared_ptr<const MeshForceLaw> make_mesh_force_law(const GearPairParameters &parameters);
+  // The parameters with their force law built, for a family of models that share it.
+  GearPairParameters with_shared_mesh_force_law(GearPairParameters parameters);
 
   // Equivalent mass along the line of action, m_e = I1 I2 / (I1 r_b2^2 + I2 r_b1^2).
   double equivalent_mass(double pinion_inertia_kg_m2, double gear_inertia_kg_m2,
@@ -192,7 +204,7 @@ namespace hertzgear::dynamics
     double             x_scale          = 0.0;
     // The store of coefficients, direct-mapped on the mesh phase rounded to 2^-phase_bits of a
     // period (the key; all ones: empty). An entry keeps each series' value and first two
-    // derivatives at the exact phase that filled it (the law's in law_taylor, n_law_taylor per
+    // derivatives at the exact phase that filled it (the law's in the store's block, n_law_taylor per
     // entry); another phase of the same key (at most 2^-phase_bits of a period away) is served
     // by the Taylor polynomial, exact to rounding at that distance. It holds several periods'
     // worth of stage phases, so that a periodic motion, whose steps repeat every period, finds
@@ -205,8 +217,31 @@ namespace hertzgear::dynamics
     };
     static constexpr int      phase_bits = 36;
     static constexpr unsigned cache_bits = 12, cache_size = 1u << cache_bits;
-    mutable std::vector<PhaseEntry> cache;
-    mutable std::vector<double>     law_taylor;
+    // The entries and the law's triples of every entry, which stay unset until a phase fills the
+    // entry (a law with many coefficients, such as the FE law's 2 per rung, makes the block
+    // megabytes: the models of a continuation, built at every corrector step, must not clear it).
+    // A copy of the store is an empty store of the same size: a copied model fills its own.
+    struct PhaseStore
+    {
+      std::vector<PhaseEntry>   entries;
+      std::unique_ptr<double[]> law;
+      unsigned                  per_entry = 0;
+
+      PhaseStore() = default;
+      explicit PhaseStore(const unsigned n)
+        : entries(cache_size), law(new double[std::size_t(cache_size) * n]), per_entry(n)
+      {}
+      PhaseStore(const PhaseStore &other) : PhaseStore(other.per_entry) {}
+      PhaseStore(PhaseStore &&)            = default;
+      PhaseStore &operator=(PhaseStore &&) = default;
+      PhaseStore &operator=(const PhaseStore &other)
+      {
+        if (this != &other)
+          *this = PhaseStore(other.per_entry);
+        return *this;
+      }
+    };
+    mutable PhaseStore store;
     double                          cycles_per_s = 0.0; // omega_m / 2 pi
   };
 } // namespace hertzgear::dynamics

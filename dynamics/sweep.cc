@@ -181,7 +181,8 @@ namespace hertzgear::dynamics
     public:
       SweepRun(const SweepModel &sweep_model, const SweepSettings &settings,
                const SweepProgress &on_point)
-        : model(sweep_model), progress(on_point), speeds(sweep_speeds(settings)),
+        : model(sweep_model), pair(with_shared_mesh_force_law(sweep_model.parameters)),
+          progress(on_point), speeds(sweep_speeds(settings)),
           jobs(make_jobs(settings)), rows(jobs.size()), rank(processes::rank()),
           n_ranks(processes::count()), run(sweep_model.run)
       {
@@ -254,7 +255,7 @@ namespace hertzgear::dynamics
         std::vector<double> y;
         for (const int i : job.points)
           {
-            GearPairModel gear_pair(at_speed(model.parameters, model.speed_rpm, speeds[i]));
+            GearPairModel gear_pair(at_speed(pair, model.speed_rpm, speeds[i]));
             if (y.empty())
               y = model.initial.of(gear_pair);
             const SimulationResult r = simulate(gear_pair, run, y);
@@ -279,6 +280,7 @@ namespace hertzgear::dynamics
       }
 
       const SweepModel                   &model;
+      const GearPairParameters            pair; // the model's, with the force law its points share
       const SweepProgress                &progress;
       const std::vector<double>           speeds;
       const std::vector<Job>              jobs;
