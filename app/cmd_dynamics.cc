@@ -79,6 +79,15 @@ namespace hertzgear
                       summary["period_multiplicity"].get<int>(), ", steps ",
                       result.stats.steps, ", rhs evals ", result.stats.rhs_evals, ", events ",
                       result.stats.events));
+    if (summary["force_law"]["extrapolated"].get<bool>())
+      progress_line("dynamics",
+                    msg("warning: the mesh force reaches ", summary["max_mesh_force_N"].get<double>(),
+                        " N, above the force law's data (",
+                        summary["force_law"]["tabulated_force_limit_N"].get<double>(),
+                        " N, the load ladder's top), in ",
+                        100.0 * summary["force_law"]["extrapolated_fraction"].get<double>(),
+                        " % of the steady window: the FE law extrapolates there; a higher top of "
+                        "Stiffness/load_ladder_percent covers it"));
     if (dir)
       {
         PhaseTimer::Scope scope(timer, "write");
@@ -171,6 +180,16 @@ namespace hertzgear
       PhaseTimer::Scope scope(timer, "integrate");
       result = dynamics::sweep(model, settings, sweep_progress_line);
     }
+    const auto extrapolated = std::count_if(result.rows.begin(), result.rows.end(), [](const auto &r) {
+      return r.summary.force_law_extrapolated;
+    });
+    if (extrapolated > 0)
+      progress_line("sweep", msg("warning: at ", extrapolated, " of ", result.rows.size(),
+                                 " points the mesh force goes above the force law's data (",
+                                 result.rows.front().summary.tabulated_force_limit_N,
+                                 " N, the load ladder's top): the FE law extrapolates there "
+                                 "(column extrapolated_fraction); a higher top of "
+                                 "Stiffness/load_ladder_percent covers them"));
     const std::string csv = sweep_csv(result.rows);
     if (dir)
       {

@@ -115,6 +115,13 @@ namespace hertzgear
     progress_line("response", msg(n_points, " orbits on ", result.branches.size(), " branches, ",
                                   json["bifurcations"].size(), " bifurcations, ",
                                   result.orbits_solved, " Newton iterations, ", elapsed(), " s"));
+    if (json["force_law"]["extrapolated_orbits"].get<int>() > 0)
+      progress_line("response",
+                    msg("warning: on ", json["force_law"]["extrapolated_orbits"].get<int>(),
+                        " orbits the mesh force goes above the force law's data (",
+                        json["force_law"]["tabulated_force_limit_N"].get<double>(),
+                        " N, the load ladder's top): the FE law extrapolates there; a higher top "
+                        "of Stiffness/load_ladder_percent covers them"));
     ResponseStageOutput out{response_csv(result, family.column), json};
     if (dir)
       {

@@ -379,6 +379,16 @@ namespace hertzgear::dynamics
         sum.max_force_N         = std::max(sum.max_force_N, e.max_force_N);
         sum.max_penetration_m   = std::max(sum.max_penetration_m, e.max_penetration_m);
       }
+    const double limit = model.mesh_force_law().tabulated_force_limit();
+    if (std::isfinite(limit))
+      {
+        sum.tabulated_force_limit_N = limit;
+        sum.extrapolated_fraction =
+          double(std::count_if(s.begin(), s.begin() + std::ptrdiff_t(n),
+                               [&](const Sample &x) { return std::abs(x.force_N) > limit; })) /
+          double(n);
+        sum.force_law_extrapolated = std::max(sum.max_force_N, -sum.min_force_N) > limit;
+      }
     sum.mean_dte_m            = sum_x / n;
     sum.rms_dte_m             = std::sqrt(sum_x2 / n);
     sum.rms_dte_fluctuation_m =

@@ -117,6 +117,13 @@ namespace hertzgear::dynamics
     // "dense output" (the integrator's interpolant, maximised inside every step of the steady
     // window, and the samples) or "samples" (the output samples only).
     std::string extremes_from;
+    // The force law's data end (MeshForceLaw::tabulated_force_limit: the FE law's top rung; 0 for
+    // a closed-form law without one), and the fraction of the steady window's samples whose mesh
+    // force lies above it, where the law extrapolates (docs/dynamics.md, "The FE force law").
+    // force_law_extrapolated: the largest force (dense output included) lies above it.
+    double tabulated_force_limit_N = 0.0;
+    double extrapolated_fraction   = 0.0;
+    bool   force_law_extrapolated  = false;
   };
   // JSON with the member names as keys (nlohmann's to_json / from_json).
   NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SteadyStateSummary, rms_dte_m, rms_dte_fluctuation_m, mean_dte_m,
@@ -125,7 +132,9 @@ namespace hertzgear::dynamics
                                      contact_loss_fraction, contact_losses_per_period,
                                      backside_impacts, period_multiplicity, period_status,
                                      period_candidate, period_contraction, period_distance,
-                                     mean_loop_work_per_impact_J, n_impacts, extremes_from)
+                                     mean_loop_work_per_impact_J, n_impacts, extremes_from,
+                                     tabulated_force_limit_N, extrapolated_fraction,
+                                     force_law_extrapolated)
 
   // Period-k detection from the convergence of the Poincare section, not from the size of its
   // differences alone. For k = 1..max_k, the k-step differences

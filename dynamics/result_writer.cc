@@ -2,6 +2,7 @@
 
 #include "common/errors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -50,6 +51,13 @@ namespace hertzgear::dynamics
     // The mean of the loop integrals of F d(delta) over the impacts: the contact damping's
     // dissipation when k_h is constant under load, else with the stiffness variation's work.
     j["mean_loop_work_per_impact_J"] = s.mean_loop_work_per_impact_J;
+    // Where the force law's data end (the FE law's top rung) and how much of the steady window
+    // lies above it, extrapolated (docs/dynamics.md, "The FE force law"); null limit: none.
+    j["force_law"] = {{"tabulated_force_limit_N", s.tabulated_force_limit_N > 0.0 ?
+                                                    nlohmann::json(s.tabulated_force_limit_N) :
+                                                    nlohmann::json()},
+                      {"extrapolated_fraction", s.extrapolated_fraction},
+                      {"extrapolated", s.force_law_extrapolated}};
     j.update({{"state_dimension", model.n_states()},
               {"effects", model.parameters().effects.describe()},
               {"equivalent_mass_kg", model.parameters().equivalent_mass_kg},
@@ -138,7 +146,7 @@ namespace hertzgear::dynamics
   {
     std::ostringstream os;
     os << "speed_rpm,direction,rms_dte_um,min_dte_um,max_dte_um,dynamic_factor,"
-          "contact_loss_fraction,period_multiplicity,extremes_from\n";
+          "contact_loss_fraction,period_multiplicity,extremes_from,extrapolated_fraction\n";
     for (const auto &r : rows)
       os << csv_number(r.speed_rpm) << ',' << sweep_branch_name(r.branch) << ','
          << csv_number(1e6 * r.summary.rms_dte_m) << ','
@@ -146,7 +154,8 @@ namespace hertzgear::dynamics
          << csv_number(1e6 * r.summary.max_dte_m) << ','
          << csv_number(r.summary.dynamic_factor) << ','
          << csv_number(r.summary.contact_loss_fraction) << ','
-         << r.summary.period_multiplicity << ',' << r.summary.extremes_from << '\n';
+         << r.summary.period_multiplicity << ',' << r.summary.extremes_from << ','
+         << csv_number(r.summary.extrapolated_fraction) << '\n';
     return os.str();
   }
 
@@ -208,6 +217,17 @@ namespace hertzgear::dynamics
     j["wall_time_s"]   = wall_time_s;
     j["branches"]      = nlohmann::json::array();
     j["bifurcations"]  = nlohmann::json::array();
+    // Orbits whose mesh force goes above the force law's data (the FE law's top rung).
+    int    extrapolated = 0;
+    double limit        = 0.0;
+    for (const auto &b : result.branches)
+      for (const auto &p : b.points)
+        {
+          extrapolated += p.summary.force_law_extrapolated ? 1 : 0;
+          limit = std::max(limit, p.summary.tabulated_force_limit_N);
+        }
+    j["force_law"] = {{"tabulated_force_limit_N", limit > 0.0 ? nlohmann::json(limit) : nlohmann::json()},
+                      {"extrapolated_orbits", extrapolated}};
     for (const auto &b : result.branches)
       {
         int stable = 0;

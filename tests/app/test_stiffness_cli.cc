@@ -602,3 +602,82 @@ TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnADistributedSector)
   // Distributed fields: one piece per rank under each .pvtu record.
   EXPECT_TRUE(fs::exists(mpi / "fields" / "pinion_0000.1.vtu"));
 }
+
+TEST(StiffnessCli, TheLoadLadderIsTheCycleAtEachLoadAndDrivesTheFeForceLaw)
+{
+  // Requirements: (1) the stage runs the load ladder only when the scene asks for the FE force
+  // law, and each rung holds what a single-torque run at that load gives: the approach (loaded
+  // minus unloaded STE) and its Hertzian part, the same contact problem on the same bodies (equal
+  // to the CSV's 10 significant digits, 1e-9 relative); (2) the dynamics run on it with the FE
+  // law, and a static load above the ladder's top is an extrapolation they warn about and count
+  // in summary.json, not an error; (3) a ladder that stops below the nominal load is refused
+  // (exit 2, naming the key) before any file.
+  const fs::path dir = fresh_temp_dir("stiffness_ladder");
+  const auto r = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse +
+                               " --set Effects/mesh_force_law=fe-map"
+                               " --set Stiffness/load_ladder_percent=20,100,300 --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("ladder 3/3  load"));
+  const auto table = hertzgear::table::read_stiffness_table(dir / "stiffness.json");
+  ASSERT_EQ(table.ladder.n_rungs(), 3u);
+  ASSERT_EQ(table.ladder.n_positions(), 5u);
+  EXPECT_DOUBLE_EQ(table.ladder.load_N[1], table.ladder.nominal_load_N);
+
+  const fs::path single = fresh_temp_dir("stiffness_ladder_single");
+  const auto     s      = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse +
+                               " --set Operating/torque_Nm=630 --out " + single.string());
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  const auto rows = csv_rows(single / "stiffness.csv");
+  ASSERT_EQ(rows.size(), 5u);
+  // The unloaded STE of the discrete flanks depends on the contact grid, whose band follows the
+  // load: each run's approach is its loaded minus its own unloaded STE.
+  const auto unloaded = hertzgear::table::read_stiffness_table(single / "stiffness.json").samples.unloaded_ste_m;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    {
+      // columns: 2 ste_um, 9 hertz_penetration_um.
+      const double approach_um = column(rows[i], 2) - 1e6 * unloaded[i];
+      EXPECT_NEAR(1e6 * table.ladder.approach_m[2][i], approach_um, 1e-9 * approach_um) << rows[i];
+      EXPECT_NEAR(1e6 * table.ladder.hertz_approach_m[2][i], column(rows[i], 9),
+                  1e-9 * column(rows[i], 9)) << rows[i];
+    }
+
+  // Without the FE law the stage makes no ladder.
+  const fs::path plain = fresh_temp_dir("stiffness_ladder_plain");
+  ASSERT_EQ(run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse + " --out " +
+                          plain.string()).exit_code, 0);
+  EXPECT_TRUE(hertzgear::table::read_stiffness_table(plain / "stiffness.json").ladder.empty());
+
+  // The dynamics on the FE law, at 4 times the nominal torque: above the 300 % top.
+  const fs::path dyn = fresh_temp_dir("stiffness_ladder_dynamics");
+  const std::string on_table = " --set Stiffness/source=table --set Stiffness/table_file=" +
+                               (dir / "stiffness.json").string() +
+                               " --set Effects/mesh_force_law=fe-map --set Dynamics/periods=40"
+                               " --set Dynamics/transient_periods=20 --set Stiffness/harmonics=2"
+                               " --set Stiffness/positions_per_cycle=5";
+  const auto d = run_hertzgear("dynamics " + scene_path("paper_uncrowned.prm") + on_table +
+                               " --set Operating/torque_Nm=840 --out " + dyn.string());
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_THAT(d.err, HasSubstr("the FE law extrapolates there"));
+  const auto summary = nlohmann::json::parse(slurp(dyn / "summary.json"));
+  EXPECT_TRUE(summary.at("force_law").at("extrapolated").get<bool>());
+  EXPECT_GT(summary.at("force_law").at("extrapolated_fraction").get<double>(), 0.9);
+  EXPECT_DOUBLE_EQ(summary.at("force_law").at("tabulated_force_limit_N").get<double>(),
+                   table.ladder.load_N[2]);
+  EXPECT_THAT(summary.at("effects").get<std::string>(), HasSubstr("mesh_force_law=fe-map"));
+
+  const fs::path low = fresh_temp_dir("stiffness_ladder_low");
+  fs::remove_all(low);
+  const auto b = run_hertzgear("stiffness " + scene_path("paper_uncrowned.prm") + coarse +
+                               " --set Effects/mesh_force_law=fe-map"
+                               " --set Stiffness/load_ladder_percent=10,50 --out " + low.string());
+  EXPECT_EQ(b.exit_code, 2) << b.err;
+  EXPECT_THAT(b.err, HasSubstr("Stiffness/load_ladder_percent"));
+  EXPECT_THAT(b.err, HasSubstr("does not reach the nominal load"));
+  EXPECT_FALSE(fs::exists(low));
+
+  // A source that makes no ladder cannot serve the FE law: the message says which can.
+  const auto c = run_hertzgear("check " + scene_path("paper_uncrowned.prm") +
+                               " --set Stiffness/source=iso6336 --set Effects/mesh_force_law=fe-map");
+  EXPECT_EQ(c.exit_code, 2) << c.err;
+  EXPECT_THAT(c.err, HasSubstr("Stiffness/source = fem"));
+}

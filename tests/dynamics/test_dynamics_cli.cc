@@ -103,7 +103,7 @@ TEST(DynamicsCli, SweepWritesItsTables)
   const std::string sweep = slurp(out / "sweep.csv");
   EXPECT_EQ(sweep.substr(0, sweep.find('\n')),
             "speed_rpm,direction,rms_dte_um,min_dte_um,max_dte_um,dynamic_factor,"
-            "contact_loss_fraction,period_multiplicity,extremes_from");
+            "contact_loss_fraction,period_multiplicity,extremes_from,extrapolated_fraction");
   EXPECT_EQ(std::count(sweep.begin(), sweep.end(), '\n'), 1 + 3 * 3); // up, down, independent
   EXPECT_EQ(slurp(out / "bifurcation.csv").substr(0, 26), "speed_rpm,poincare_dte_um\n");
   fs::remove_all(out);
