@@ -5,6 +5,10 @@
 //   build/bench/bench_frequency_response [alternations, default 3]
 //   build/bench/bench_frequency_response orbit [solves, default 50] [rpm, default 150]
 //     (one orbit alone)
+//   build/bench/bench_frequency_response laws [alternations, default 3]
+//     (the serial Hertz law against the FE force law on the table's load ladder: one orbit at
+//     10 000 rpm, median of 20 solves, and the 200-speed shooting curve at the scene's defaults,
+//     timed in alternation; medians and their ratio, and the largest difference of the RMS DTE)
 //
 // - Reference: the periodic orbit at every speed by shooting at rtol 1e-11, Newton to 1e-9 of the
 //   state scale, each started from the orbit of the speed before (where Newton fails, past the
@@ -66,9 +70,17 @@ namespace
   // last orbit where the secant's Newton fails). Past a fold Newton fails from both: the motion
   // jumps as an up sweep does, time-marched in rounds of 25 periods until Newton converges from
   // its state to a stable orbit.
-  Curve shooting_curve(const double rtol, const double newton)
+  GearPairParameters pair_on(const MeshForceLawKind law)
   {
-    const auto base = testing::contact_loss_pair();
+    auto p                   = testing::contact_loss_pair();
+    p.effects.mesh_force_law = law;
+    return with_shared_mesh_force_law(p);
+  }
+
+  Curve shooting_curve(const double rtol, const double newton,
+                       const MeshForceLawKind law = MeshForceLawKind::serial_hertz)
+  {
+    const auto base = pair_on(law);
     Curve      c;
     ShootingSettings s;
     s.integrator.kind               = IntegratorKind::radau_iia;
@@ -154,9 +166,10 @@ namespace
   }
 
   // One orbit at `rpm`, the scene's defaults, from the static equilibrium: median of `solves`.
-  void one_orbit(const int solves, const double rpm)
+  double one_orbit(const int solves, const double rpm,
+                   const MeshForceLawKind law = MeshForceLawKind::serial_hertz)
   {
-    GearPairModel    model(at_speed(testing::contact_loss_pair(), base_rpm, rpm));
+    GearPairModel    model(at_speed(pair_on(law), base_rpm, rpm));
     ShootingSettings s;
     s.integrator.kind               = IntegratorKind::radau_iia;
     s.integrator.relative_tolerance = 1e-8;
@@ -174,6 +187,34 @@ namespace
                 "|mu|max %.2e, converged %d\n",
                 rpm, 1e3 * median(times), solves, orbit.iterations, orbit.largest_multiplier_modulus,
                 int(orbit.converged));
+    return median(times);
+  }
+
+  // The two force laws in alternation: one orbit, then the shooting curve.
+  void compare_laws(const int alternations)
+  {
+    std::vector<double> orbit[2], curve[2];
+    Curve               last[2];
+    for (int a = 0; a < alternations; ++a)
+      for (const auto law : {MeshForceLawKind::serial_hertz, MeshForceLawKind::fe_map})
+        {
+          const int i = law == MeshForceLawKind::fe_map;
+          std::printf("%s: ", i ? "fe-map" : "serial-hertz");
+          orbit[i].push_back(one_orbit(20, 10000.0, law));
+          const auto t0 = std::chrono::steady_clock::now();
+          last[i]       = shooting_curve(1e-8, 1e-6, law);
+          curve[i].push_back(seconds_since(t0));
+          std::printf("  %d-speed shooting curve: %.3f s\n", n_speeds, curve[i].back());
+        }
+    double difference = 0.0;
+    for (int k = 0; k < n_speeds; ++k)
+      difference = std::max(difference, std::abs(last[1].rms[k] - last[0].rms[k]) / last[0].rms[k]);
+    std::printf("one orbit at 10000 rpm: serial %.3f ms, fe-map %.3f ms, ratio %.2f\n",
+                1e3 * median(orbit[0]), 1e3 * median(orbit[1]), median(orbit[1]) / median(orbit[0]));
+    std::printf("%d-speed curve: serial %.3f s, fe-map %.3f s, ratio %.2f (medians of %d); largest "
+                "RMS DTE difference of the laws %.3e relative\n",
+                n_speeds, median(curve[0]), median(curve[1]), median(curve[1]) / median(curve[0]),
+                alternations, difference);
   }
 } // namespace
 
@@ -183,6 +224,11 @@ int main(int argc, char **argv)
   if (argc > 1 && std::string(argv[1]) == "orbit")
     {
       one_orbit(argc > 2 ? std::max(1, std::atoi(argv[2])) : 50, argc > 3 ? std::atof(argv[3]) : 150.0);
+      return 0;
+    }
+  if (argc > 1 && std::string(argv[1]) == "laws")
+    {
+      compare_laws(argc > 2 ? std::max(1, std::atoi(argv[2])) : 3);
       return 0;
     }
   const int alternations = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
