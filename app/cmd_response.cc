@@ -108,8 +108,6 @@ namespace hertzgear
         progress_line("response", msg(b.ended_in_failure ? "warning: " : "", "branch ", b.id,
                                       " (period ", b.period_multiple, ", ", b.points.size(),
                                       " orbits) ends: ", b.end_reason));
-        for (const auto &note : b.notes)
-          progress_line("response", msg("branch ", b.id, ": ", note));
       }
     auto json         = response_json(result, family.column, elapsed());
     json["scene_key"] = family.key;

@@ -49,13 +49,6 @@ namespace hertzgear::dynamics
     int    max_branches = 4;            // the first branch and the period-doubled ones
     // Bifurcations are located to this fraction of the step length.
     double location_tolerance = 1e-6;
-    // A turning point of the branch (the parameter's tangent component changes sign) is a fold
-    // only where a real multiplier lies within this of 1 at the located point; else the branch
-    // turned at a corner of the period map (a grazing contact), which is noted, not reported.
-    double fold_multiplier_tolerance = 1e-3;
-    // A corrected point farther than this times the step from its predictor was found on
-    // another branch: the step is refused and halved.
-    double max_correction_ratio = 1.0;
   };
 
   // Throws ParameterError naming the field of ContinuationSettings that is out of range.
@@ -95,10 +88,6 @@ namespace hertzgear::dynamics
     std::string                    end_reason;           // why the continuation stopped
     bool                           ended_in_failure = false; // step collapsed below step_min
     int                            corners = 0; // non-smooth points passed (grazing contacts)
-    // What the continuation passed without reporting it: turns of the branch where no
-    // multiplier is 1 (corners), and sign changes of a test function that could not be located
-    // because a corrector failed on the way; each with its parameter value.
-    std::vector<std::string>       notes;
   };
 
   struct ContinuationResult

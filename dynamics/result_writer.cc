@@ -240,7 +240,6 @@ namespace hertzgear::dynamics
                                  {"points", b.points.size()},
                                  {"stable_points", stable},
                                  {"end_reason", b.end_reason},
-                                 {"notes", b.notes},
                                  {"ended_in_failure", b.ended_in_failure}});
         for (const auto &p : b.points)
           if (p.bifurcation != Bifurcation::none)
