@@ -276,15 +276,31 @@ TEST(EarlyChecks, ATableMadeWithTipReliefRefusesASceneWithoutIt)
   const auto same = run_hertzgear("check " + on_table + relief);
   EXPECT_EQ(same.exit_code, 0) << same.err;
 
-  // The shipped table records no micro-geometry: a scene with a tip relief is warned about, the
-  // paper scene is not.
-  const auto warned = run_hertzgear("check " + table_scene + relief);
+  // A table whose record holds no micro-geometry (as tables written before the record held it):
+  // a scene with a tip relief is warned about, the paper scene is not.
+  auto old_table = nlohmann::json::parse(
+    slurp(fs::path(HERTZGEAR_SOURCE_DIR) / "data" / "stiffness" / "paper_uncrowned.json"));
+  nlohmann::json old_pair = {{"module_mm", old_table.at("pair").at("module_mm")},
+                             {"pressure_angle_deg", old_table.at("pair").at("pressure_angle_deg")}};
+  for (const char *gear : {"pinion", "gear"})
+    for (const char *key : {"teeth", "face_width_mm", "profile_shift_coefficient", "crowning_um"})
+      old_pair[gear][key] = old_table.at("pair").at(gear).at(key);
+  old_table["pair"] = old_pair;
+  const fs::path old_dir = fresh_temp_dir("early_old_record");
+  fs::create_directories(old_dir);
+  std::ofstream(old_dir / "stiffness.json") << old_table.dump(2);
+  const std::string on_old = table_scene + " --set Stiffness/table_file=" + quoted(old_dir / "stiffness.json");
+  const auto warned = run_hertzgear("check " + on_old + relief);
   EXPECT_EQ(warned.exit_code, 0) << warned.err;
   EXPECT_THAT(warned.err, HasSubstr("does not record pinion/tip_relief_length_mm, "
                                     "pinion/tip_relief_shape, pinion/tip_relief_um of its pair"));
-  const auto plain = run_hertzgear("check " + table_scene);
+  const auto plain = run_hertzgear("check " + on_old);
   EXPECT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_THAT(plain.err, Not(HasSubstr("does not record")));
+  // The shipped tables record their whole pair: a scene with a tip relief is refused.
+  expect_refused_by_check_and_run(table_scene + relief,
+                                  "Gear pair/Pinion/tip_relief_um 0 (table) / 20 (scene)",
+                                  "was computed for another pair");
 }
 
 // 6. Plausibility.
