@@ -3,10 +3,14 @@
 // (data/scenes/paper_crowned_table.prm), 200 speeds from 1000 to 20000 rpm, up.
 //
 //   build/bench/bench_frequency_response [alternations, default 3]
-//   build/bench/bench_frequency_response orbit [solves, default 50] [rpm, default 150]
+//   build/bench/bench_frequency_response orbit [solves, default 50] [rpm, default 150] [law,
+//     serial-hertz (default), fe-map or fe-map-serial-ladder]
 //     (one orbit alone)
+//   build/bench/bench_frequency_response curve [law]
+//     (the 200-speed shooting curve alone on one law, for instruction counts under callgrind)
 //   build/bench/bench_frequency_response laws [alternations, default 3]
-//     (the serial Hertz law against the FE force law on the table's load ladder: one orbit at
+//     (the serial Hertz law against the FE force law on the table's load ladder and on a ladder
+//     made from the serial law itself, which moves as the serial law does: one orbit at
 //     10 000 rpm, median of 20 solves, and the 200-speed shooting curve at the scene's defaults,
 //     timed in alternation; medians and their ratio, and the largest difference of the RMS DTE)
 //
@@ -24,6 +28,7 @@
 #include "dynamics/sweep.h"
 
 #include "tests/dynamics/dynamics_fixtures.h"
+#include "tests/support/serial_ladder.h"
 
 #include <algorithm>
 #include <chrono>
@@ -70,15 +75,39 @@ namespace
   // last orbit where the secant's Newton fails). Past a fold Newton fails from both: the motion
   // jumps as an up sweep does, time-marched in rounds of 25 periods until Newton converges from
   // its state to a stable orbit.
-  GearPairParameters pair_on(const MeshForceLawKind law)
+  // The contenders: the serial Hertz law, the FE force law on the table's ladder, and the FE
+  // force law on a ladder made from the serial law itself (the same motion as the serial law:
+  // what the FE law's evaluation costs, apart from the different motion of the FE ladder).
+  enum class Law
   {
-    auto p                   = testing::contact_loss_pair();
-    p.effects.mesh_force_law = law;
+    serial_hertz,
+    fe_map,
+    fe_map_on_serial_ladder
+  };
+  const char *name(const Law law)
+  {
+    return law == Law::serial_hertz ? "serial-hertz" :
+           law == Law::fe_map       ? "fe-map" :
+                                      "fe-map on the serial law's ladder";
+  }
+
+  GearPairParameters pair_on(const Law law)
+  {
+    auto p = testing::contact_loss_pair();
+    p.effects.mesh_force_law =
+      law == Law::serial_hertz ? MeshForceLawKind::serial_hertz : MeshForceLawKind::fe_map;
+    if (law == Law::fe_map_on_serial_ladder)
+      {
+        const double F0    = p.stiffness.ladder.nominal_load_N;
+        p.stiffness.ladder = hertzgear::testing::serial_law_ladder(
+          p.stiffness, hertzgear::testing::ladder_loads(F0),
+          static_cast<unsigned>(p.stiffness.ladder.n_positions()), F0);
+      }
     return with_shared_mesh_force_law(p);
   }
 
   Curve shooting_curve(const double rtol, const double newton,
-                       const MeshForceLawKind law = MeshForceLawKind::serial_hertz)
+                       const Law law = Law::serial_hertz)
   {
     const auto base = pair_on(law);
     Curve      c;
@@ -166,8 +195,7 @@ namespace
   }
 
   // One orbit at `rpm`, the scene's defaults, from the static equilibrium: median of `solves`.
-  double one_orbit(const int solves, const double rpm,
-                   const MeshForceLawKind law = MeshForceLawKind::serial_hertz)
+  double one_orbit(const int solves, const double rpm, const Law law = Law::serial_hertz)
   {
     GearPairModel    model(at_speed(pair_on(law), base_rpm, rpm));
     ShootingSettings s;
@@ -183,47 +211,70 @@ namespace
         orbit = find_periodic_orbit(model, model.static_equilibrium_state(), s);
         times.push_back(seconds_since(t0));
       }
-    std::printf("one orbit at %g rpm: median %.3f ms over %d solves, %d Newton iterations, "
+    std::printf("%s: one orbit at %g rpm: median %.3f ms over %d solves, %d Newton iterations, "
                 "|mu|max %.2e, converged %d\n",
-                rpm, 1e3 * median(times), solves, orbit.iterations, orbit.largest_multiplier_modulus,
-                int(orbit.converged));
+                name(law), rpm, 1e3 * median(times), solves, orbit.iterations,
+                orbit.largest_multiplier_modulus, int(orbit.converged));
     return median(times);
   }
 
-  // The two force laws in alternation: one orbit, then the shooting curve.
+  // The three contenders in alternation: one orbit, then the shooting curve.
   void compare_laws(const int alternations)
   {
-    std::vector<double> orbit[2], curve[2];
-    Curve               last[2];
+    constexpr int       n = 3;
+    const Law           laws[n] = {Law::serial_hertz, Law::fe_map, Law::fe_map_on_serial_ladder};
+    std::vector<double> orbit[n], curve[n];
+    Curve               last[n];
     for (int a = 0; a < alternations; ++a)
-      for (const auto law : {MeshForceLawKind::serial_hertz, MeshForceLawKind::fe_map})
+      for (int i = 0; i < n; ++i)
         {
-          const int i = law == MeshForceLawKind::fe_map;
-          std::printf("%s: ", i ? "fe-map" : "serial-hertz");
-          orbit[i].push_back(one_orbit(20, 10000.0, law));
+          orbit[i].push_back(one_orbit(20, 10000.0, laws[i]));
           const auto t0 = std::chrono::steady_clock::now();
-          last[i]       = shooting_curve(1e-8, 1e-6, law);
+          last[i]       = shooting_curve(1e-8, 1e-6, laws[i]);
           curve[i].push_back(seconds_since(t0));
-          std::printf("  %d-speed shooting curve: %.3f s\n", n_speeds, curve[i].back());
+          std::printf("  %s: %d-speed shooting curve: %.3f s\n", name(laws[i]), n_speeds,
+                      curve[i].back());
         }
-    double difference = 0.0;
-    for (int k = 0; k < n_speeds; ++k)
-      difference = std::max(difference, std::abs(last[1].rms[k] - last[0].rms[k]) / last[0].rms[k]);
-    std::printf("one orbit at 10000 rpm: serial %.3f ms, fe-map %.3f ms, ratio %.2f\n",
-                1e3 * median(orbit[0]), 1e3 * median(orbit[1]), median(orbit[1]) / median(orbit[0]));
-    std::printf("%d-speed curve: serial %.3f s, fe-map %.3f s, ratio %.2f (medians of %d); largest "
-                "RMS DTE difference of the laws %.3e relative\n",
-                n_speeds, median(curve[0]), median(curve[1]), median(curve[1]) / median(curve[0]),
-                alternations, difference);
+    const auto difference = [&](const int i) {
+      double d = 0.0;
+      for (int k = 0; k < n_speeds; ++k)
+        d = std::max(d, std::abs(last[i].rms[k] - last[0].rms[k]) / last[0].rms[k]);
+      return d;
+    };
+    for (int i = 1; i < n; ++i)
+      std::printf("%s against serial-hertz (medians of %d): one orbit at 10000 rpm %.3f / %.3f ms, "
+                  "ratio %.2f; %d-speed curve %.3f / %.3f s, ratio %.2f; largest RMS DTE "
+                  "difference %.3e relative\n",
+                  name(laws[i]), alternations, 1e3 * median(orbit[i]), 1e3 * median(orbit[0]),
+                  median(orbit[i]) / median(orbit[0]), n_speeds, median(curve[i]),
+                  median(curve[0]), median(curve[i]) / median(curve[0]), difference(i));
   }
 } // namespace
 
 int main(int argc, char **argv)
 {
-  // `orbit [solves] [rpm]` times one orbit alone (for profiling, e.g. under callgrind).
+  // `orbit [solves] [rpm] [serial-hertz|fe-map]` times one orbit alone (for profiling, e.g.
+  // under callgrind).
   if (argc > 1 && std::string(argv[1]) == "orbit")
     {
-      one_orbit(argc > 2 ? std::max(1, std::atoi(argv[2])) : 50, argc > 3 ? std::atof(argv[3]) : 150.0);
+      const std::string law = argc > 4 ? argv[4] : "serial-hertz";
+      one_orbit(argc > 2 ? std::max(1, std::atoi(argv[2])) : 50, argc > 3 ? std::atof(argv[3]) : 150.0,
+                law == "fe-map"               ? Law::fe_map :
+                law == "fe-map-serial-ladder" ? Law::fe_map_on_serial_ladder :
+                                                Law::serial_hertz);
+      return 0;
+    }
+  // `curve [law]`: the 200-speed shooting curve alone on one law (for instruction counts).
+  if (argc > 1 && std::string(argv[1]) == "curve")
+    {
+      const std::string law = argc > 2 ? argv[2] : "serial-hertz";
+      const Law         l   = law == "fe-map"               ? Law::fe_map :
+                              law == "fe-map-serial-ladder" ? Law::fe_map_on_serial_ladder :
+                                                              Law::serial_hertz;
+      const auto t0 = std::chrono::steady_clock::now();
+      const Curve c = shooting_curve(1e-8, 1e-6, l);
+      std::printf("%s: %d-speed shooting curve %.3f s, %d jumps\n", name(l), n_speeds,
+                  seconds_since(t0), c.jumps);
       return 0;
     }
   if (argc > 1 && std::string(argv[1]) == "laws")

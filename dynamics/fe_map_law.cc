@@ -5,12 +5,18 @@
 // A member (structural: exponent p = 1; Hertzian: p = n of the table) at rung j of load F_j has
 // the compression a_j(theta) at the mesh angle theta. Across the mesh cycle its secant coefficient
 // c_j = F_j / a_j^p is the trigonometric interpolant of its S positions (exactly the series of a
-// ladder made from Fourier coefficients). Across the load, log F is a monotone cubic Hermite
-// function of log a through the rungs (X_j = log a_j, Y_j = log F_j): slopes the harmonic mean of
-// the neighbouring secants inside (Fritsch-Butland: monotone, C1, exact on a power law), p at the
-// lowest rung, where the law continues below as F = c_0 a^p (the contact's own exponent down to
-// first touch), and the last secant at the top, where it continues as the power law of that
-// exponent (an extrapolation the analyses count, docs/dynamics.md).
+// ladder made from Fourier coefficients). Across the load, log F is the cubic spline of log a
+// through the rungs (X_j = log a_j, Y_j = log F_j; C2, so that an integrator's steps do not
+// shrink where the motion crosses a rung, and exact on a power law), its slope p at the lowest
+// rung, where the law continues below as F = c_0 a^p (the contact's own exponent down to first
+// touch), and its curvature zero at the top, where it continues as the power law of its end
+// slope (an extrapolation the analyses count, docs/dynamics.md). The spline is checked to grow
+// at every phase (a ladder whose spline does not is refused).
+//
+// The coefficients X_j(theta) and the spline's slopes m_j(theta) of both members are computed
+// exactly on N nodes over the cycle at construction; an evaluation interpolates the few it
+// needs by the quintic Hermite polynomial of its cell (GridPhase), N doubled until that is exact
+// to 1e-12 (docs/dynamics.md, "What an evaluation costs").
 #include "common/errors.h"
 #include "common/fourier_series.h"
 #include "dynamics/mesh_force_law.h"
@@ -19,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -35,8 +42,16 @@ namespace hertzgear::dynamics
       double F = 0, dF_da = 0, dF_dt = 0;
     };
 
+    // A cheap estimate of coefficient c at a phase, to find a compression's interval (exact for a
+    // phase of exact coefficients).
+    inline double estimate(const MeshPhase &ph, const unsigned c) { return ph.value(c); }
+
+    // The largest number of rungs the law takes.
+    constexpr std::size_t max_rungs = 64;
+
     // One member of the serial mesh on the ladder. Its phase coefficients are X_j(theta) = log
-    // a_j(theta), j = 0..J-1, from `first` on.
+    // a_j(theta), j = 0..J-1, from `first` on, then the Hermite slopes m_j(theta) at the rungs
+    // (so that an evaluation at a compression finds them without a division).
     class LadderMember
     {
     public:
@@ -44,7 +59,7 @@ namespace hertzgear::dynamics
                    const double p, const bool varies, const unsigned first)
         : p(p), first(first)
       {
-        std::vector<FourierSeries> secant; // c_j(theta)
+        std::vector<FourierSeries> secants; // c_j(theta)
         for (std::size_t j = 0; j < loads.size(); ++j)
           {
             Y.push_back(std::log(loads[j]));
@@ -55,11 +70,11 @@ namespace hertzgear::dynamics
             if (!varies)
               series = series.constant_part();
             mean_secant.push_back(series.mean);
-            secant.push_back(series);
+            secants.push_back(series);
             harmonics = std::max(harmonics, series.n_harmonics());
           }
         // The series as cosine and sine coefficients, rung-major, `harmonics` per rung.
-        for (const auto &series : secant)
+        for (const auto &series : secants)
           for (unsigned h = 0; h < harmonics; ++h)
             {
               const bool has = h < series.n_harmonics();
@@ -71,20 +86,19 @@ namespace hertzgear::dynamics
       }
 
       std::size_t n_rungs() const { return Y.size(); }
-      bool        varies() const { return harmonics > 0; }
+      // Phase coefficients of the member: X_j and m_j.
+      unsigned n_phase_coefficients() const { return 2 * static_cast<unsigned>(Y.size()); }
+      bool     varies() const { return harmonics > 0; }
 
-      // The Taylor triples of X_j from those of c_j: X = (Y - log c) / p. The harmonics of the
-      // angle are computed once for all rungs (recurrence as in FourierEvaluator).
+      // The Taylor triples of X_j from those of c_j, X = (Y - log c) / p, then of the slopes.
+      // The harmonics of the angle are computed once for all rungs (recurrence as in
+      // FourierEvaluator).
       void phase_coefficients(const double c1, const double s1, double *taylor) const
       {
         double *x0 = taylor + 3 * first;
         if (harmonics == 0)
           {
-            for (std::size_t j = 0; j < Y.size(); ++j)
-              {
-                x0[3 * j]     = constant_x[j];
-                x0[3 * j + 1] = x0[3 * j + 2] = 0.0;
-              }
+            mean_coefficients(taylor);
             return;
           }
         double ch[max_harmonics], sh[max_harmonics];
@@ -112,6 +126,7 @@ namespace hertzgear::dynamics
             x[1]      = -d1 / (p * v);
             x[2]      = -(d2 * v - d1 * d1) / (p * v * v);
           }
+        slopes(taylor);
       }
       // The same at the cycle's mean coefficients (no rates).
       void mean_coefficients(double *taylor) const
@@ -122,62 +137,91 @@ namespace hertzgear::dynamics
             x[0]      = constant_x[j];
             x[1] = x[2] = 0.0;
           }
+        slopes(taylor);
       }
 
       // The force at the compression a > 0 with its derivatives in a and in time at fixed a.
-      MemberForce force(const MeshPhase &ph, const double a) const
+      template <class Phase>
+      MemberForce force(const Phase &ph, const double a, const bool rates = true) const
       {
-        const std::size_t J = Y.size();
-        const double      X = std::log(a);
-        double            Yv = 0, dY_dX = 0, dY_dt = 0;
-        if (X <= x(ph, 0))
+        const long   J = static_cast<long>(Y.size());
+        const double X = std::log(a);
+        // The interval k (x_k <= X < x_{k+1}; -1 below the ladder, J - 1 above it): bisection on
+        // the phase's cheap estimates of the x_j, then corrected with their values.
+        long lo = -1, hi = J;
+        while (hi - lo > 1)
           {
-            Yv    = Y[0] + p * (X - x(ph, 0));
-            dY_dX = p;
-            dY_dt = -p * xr(ph, 0);
+            const long mid = (lo + hi) / 2;
+            (estimate(ph, unsigned(first + mid)) <= X ? lo : hi) = mid;
           }
-        else if (X >= x(ph, J - 1))
+        long   k  = lo;
+        double xk = 0.0, xk1 = 0.0;
+        for (long it = 0; it <= J; ++it)
           {
-            const Slope  m  = top_slope(ph);
-            const double dX = X - x(ph, J - 1);
-            Yv              = Y[J - 1] + m.m * dX;
-            dY_dX           = m.m;
-            dY_dt           = m.rate * dX - m.m * xr(ph, J - 1);
+            if (k >= 0 && X < (xk = x(ph, std::size_t(k))))
+              --k;
+            else if (k + 1 < J && X >= (xk1 = x(ph, std::size_t(k + 1))))
+              ++k;
+            else
+              break;
+          }
+        double Yv = 0, dY_dX = 0, dY_dt = 0;
+        if (k < 0)
+          {
+            // Below the lowest rung: F = c_0 a^p.
+            Yv    = Y[0] + p * (X - xk1);
+            dY_dX = p;
+            dY_dt = rates ? -p * xr(ph, 0) : 0.0;
+          }
+        else if (k == J - 1)
+          {
+            // Above the top: the power law of the spline's end slope.
+            const double m  = ph.value(slope_index(std::size_t(J - 1)));
+            const double dX = X - xk;
+            Yv              = Y[J - 1] + m * dX;
+            dY_dX           = m;
+            if (rates)
+              dY_dt = ph.rate(slope_index(std::size_t(J - 1))) * dX - m * xr(ph, std::size_t(J - 1));
           }
         else
           {
-            const std::size_t k  = interval(ph, X);
-            const double      xk = x(ph, k), D = x(ph, k + 1) - xk;
-            const double      Dr = xr(ph, k + 1) - xr(ph, k);
-            const double      t  = (X - xk) / D;
-            const Slope       dk = secant_of(ph, k);
-            const Slope       m0 = k == 0 ? lowest_slope(dk) : harmonic(secant_of(ph, k - 1), dk);
-            const Slope       m1 = k + 2 == J ? dk : harmonic(dk, secant_of(ph, k + 1));
+            const std::size_t i     = std::size_t(k);
+            const double      D     = xk1 - xk;
+            const double      inv_D = 1.0 / D;
+            const double      t     = (X - xk) * inv_D;
+            const double      m0 = ph.value(slope_index(i)), m1 = ph.value(slope_index(i + 1));
             const auto        h  = hermite(t);
-            Yv    = h[0] * Y[k] + h[2] * Y[k + 1] + D * (h[1] * m0.m + h[3] * m1.m);
-            const double Yt = h[4] * Y[k] + h[6] * Y[k + 1] + D * (h[5] * m0.m + h[7] * m1.m);
-            dY_dX           = Yt / D;
-            const double tr = -(xr(ph, k) + t * Dr) / D;
-            dY_dt = Yt * tr + Dr * (h[1] * m0.m + h[3] * m1.m) + D * (h[1] * m0.rate + h[3] * m1.rate);
+            Yv    = h[0] * Y[i] + h[2] * Y[i + 1] + D * (h[1] * m0 + h[3] * m1);
+            const double Yt = h[4] * Y[i] + h[6] * Y[i + 1] + D * (h[5] * m0 + h[7] * m1);
+            dY_dX           = Yt * inv_D;
+            if (rates)
+              {
+                const double r0 = xr(ph, i), Dr = xr(ph, i + 1) - r0;
+                const double tr = -(r0 + t * Dr) * inv_D;
+                dY_dt = Yt * tr + Dr * (h[1] * m0 + h[3] * m1) +
+                        D * (h[1] * ph.rate(slope_index(i)) + h[3] * ph.rate(slope_index(i + 1)));
+              }
           }
         const double F = std::exp(Yv);
         return {F, F * dY_dX / a, F * dY_dt};
       }
 
       // The compression that carries the force F > 0.
-      double compression(const MeshPhase &ph, const double F) const
+      template <class Phase>
+      double compression(const Phase &ph, const double F) const
       {
         const std::size_t J  = Y.size();
         const double      Yt = std::log(F);
         if (Yt <= Y[0])
           return std::exp(x(ph, 0) + (Yt - Y[0]) / p);
         if (Yt >= Y[J - 1])
-          return std::exp(x(ph, J - 1) + (Yt - Y[J - 1]) / top_slope(ph).m);
+          return std::exp(x(ph, J - 1) + (Yt - Y[J - 1]) / slope(ph, J - 1).m);
         const std::size_t k = static_cast<std::size_t>(
           std::upper_bound(Y.begin(), Y.end(), Yt) - Y.begin() - 1);
         const double xk = x(ph, k), D = x(ph, k + 1) - xk;
         const double m0 = slope(ph, k).m, m1 = slope(ph, k + 1).m;
-        // The monotone cubic Y(t) on [0, 1]: Newton steps kept inside a shrinking bracket.
+        // The cubic Y(t) on [0, 1], increasing (checked at construction): Newton steps kept
+        // inside a shrinking bracket.
         double lo = 0.0, hi = 1.0, t = (Yt - Y[k]) / (Y[k + 1] - Y[k]);
         for (int it = 0; it < 100; ++it)
           {
@@ -197,7 +241,8 @@ namespace hertzgear::dynamics
       }
 
       // The elastic energy int_0^a F da' stored at the compression a > 0.
-      double energy(const MeshPhase &ph, const double a) const
+      template <class Phase>
+      double energy(const Phase &ph, const double a) const
       {
         const std::size_t J = Y.size();
         const double      X = std::log(a);
@@ -228,7 +273,7 @@ namespace hertzgear::dynamics
         // Above the top F = F_top (a / a_top)^m: int = (F a - F_top a_top) / (m + 1).
         const double Xt = x(ph, J - 1);
         if (X > Xt)
-          E += (F_at(X) * a - std::exp(Y[J - 1] + Xt)) / (top_slope(ph).m + 1.0);
+          E += (F_at(X) * a - std::exp(Y[J - 1] + Xt)) / (slope(ph, J - 1).m + 1.0);
         return E;
       }
 
@@ -262,45 +307,133 @@ namespace hertzgear::dynamics
         double m = 0, rate = 0;
       };
 
-      double x(const MeshPhase &ph, const std::size_t j) const
+      template <class Phase>
+      double x(const Phase &ph, const std::size_t j) const
       {
         return ph.value(static_cast<unsigned>(first + j));
       }
-      double xr(const MeshPhase &ph, const std::size_t j) const
+      template <class Phase>
+      double xr(const Phase &ph, const std::size_t j) const
       {
         return ph.rate(static_cast<unsigned>(first + j));
       }
-      // The secant of interval i in (X, Y) and its rate.
-      Slope secant_of(const MeshPhase &ph, const std::size_t i) const
+      // The Hermite slope at rung k and its rate.
+      template <class Phase>
+      Slope slope(const Phase &ph, const std::size_t k) const
       {
-        const double D = x(ph, i + 1) - x(ph, i);
-        const double d = (Y[i + 1] - Y[i]) / D;
-        return {d, -d * (xr(ph, i + 1) - xr(ph, i)) / D};
+        const unsigned i = slope_index(k);
+        return {ph.value(i), ph.rate(i)};
       }
-      Slope top_slope(const MeshPhase &ph) const { return secant_of(ph, Y.size() - 2); }
-      // The Hermite slope at the lowest rung from the first secant d: p, kept inside the
-      // monotone region (at most 3 d).
-      Slope lowest_slope(const Slope &d) const
+      unsigned slope_index(const std::size_t k) const
       {
-        return p <= 3.0 * d.m ? Slope{p, 0.0} : Slope{3.0 * d.m, 3.0 * d.rate};
+        return static_cast<unsigned>(first + Y.size() + k);
       }
-      // The Hermite slope at an inner rung from the secants a below and b above it.
-      static Slope harmonic(const Slope &a, const Slope &b)
+      // The Taylor triples of the Hermite slopes m_j in (X, Y) from those of X_j: the cubic
+      // spline through the rungs (C2), its slope at the lowest rung the contact's own exponent p
+      // (clamped), its curvature at the top zero (natural: C2 into the straight-line
+      // extrapolation above). With g_i = 1 / (X_{i+1} - X_i) the slopes solve the tridiagonal
+      //   g_{i-1} m_{i-1} + 2 (g_{i-1} + g_i) m_i + g_i m_{i+1} = 3 (dY_{i-1} g_{i-1}^2 + dY_i g_i^2),
+      // m_0 = p and g_{J-2} m_{J-2} + 2 g_{J-2} m_{J-1} = 3 dY_{J-2} g_{J-2}^2; their derivatives
+      // in the mesh angle solve A m' = r' - A' m and A m'' = r'' - A'' m - 2 A' m' with the same
+      // matrix.
+      void slopes(double *taylor) const
       {
-        const double s = a.m + b.m;
-        return {2.0 * a.m * b.m / s, 2.0 * (b.m * b.m * a.rate + a.m * a.m * b.rate) / (s * s)};
+        const std::size_t J = Y.size();
+        // g_i and g_i^2 with their first two derivatives, from those of X.
+        std::array<double, max_rungs> g[3], G[3];
+        for (std::size_t i = 0; i + 1 < J; ++i)
+          {
+            const double *lo = taylor + 3 * (first + i), *hi = lo + 3;
+            const double  h = hi[0] - lo[0], h1 = hi[1] - lo[1], h2 = hi[2] - lo[2];
+            g[0][i]         = 1.0 / h;
+            g[1][i]         = -h1 * g[0][i] * g[0][i];
+            g[2][i]         = (2.0 * h1 * h1 * g[0][i] - h2) * g[0][i] * g[0][i];
+            G[0][i]         = g[0][i] * g[0][i];
+            G[1][i]         = 2.0 * g[0][i] * g[1][i];
+            G[2][i]         = 2.0 * (g[1][i] * g[1][i] + g[0][i] * g[2][i]);
+          }
+        // Row i: lower l[i] m_{i-1} + diagonal d[i] m_i + upper u[i] m_{i+1} = r[i], and the
+        // same rows' derivatives (index 1, 2).
+        std::array<double, max_rungs> l[3], d[3], u[3], r[3];
+        for (int o = 0; o < 3; ++o)
+          {
+            l[o][0] = u[o][0] = 0.0;
+            d[o][0]           = o == 0 ? 1.0 : 0.0;
+            r[o][0]           = o == 0 ? p : 0.0;
+            for (std::size_t i = 1; i < J; ++i)
+              {
+                const bool last = i + 1 == J;
+                l[o][i]         = g[o][i - 1];
+                u[o][i]         = last ? 0.0 : g[o][i];
+                d[o][i]         = 2.0 * (g[o][i - 1] + (last ? 0.0 : g[o][i]));
+                r[o][i] = 3.0 * ((Y[i] - Y[i - 1]) * G[o][i - 1] + (last ? 0.0 : (Y[i + 1] - Y[i]) * G[o][i]));
+              }
+          }
+        // The Thomas algorithm on A = (l[0], d[0], u[0]): the forward sweep once, then three
+        // right-hand sides.
+        std::array<double, max_rungs> pivot, factor;
+        pivot[0] = d[0][0];
+        for (std::size_t i = 1; i < J; ++i)
+          {
+            factor[i] = l[0][i] / pivot[i - 1];
+            pivot[i]  = d[0][i] - factor[i] * u[0][i - 1];
+          }
+        const auto solve = [&](std::array<double, max_rungs> &x) {
+          for (std::size_t i = 1; i < J; ++i)
+            x[i] -= factor[i] * x[i - 1];
+          x[J - 1] /= pivot[J - 1];
+          for (std::size_t i = J - 1; i-- > 0;)
+            x[i] = (x[i] - u[0][i] * x[i + 1]) / pivot[i];
+        };
+        // (A^(o) v)_i.
+        const auto apply = [&](const int o, const std::array<double, max_rungs> &v, const std::size_t i) {
+          return (i > 0 ? l[o][i] * v[i - 1] : 0.0) + d[o][i] * v[i] +
+                 (i + 1 < J ? u[o][i] * v[i + 1] : 0.0);
+        };
+        std::array<double, max_rungs> m0 = r[0], m1, m2;
+        solve(m0);
+        for (std::size_t i = 0; i < J; ++i)
+          m1[i] = r[1][i] - apply(1, m0, i);
+        solve(m1);
+        for (std::size_t i = 0; i < J; ++i)
+          m2[i] = r[2][i] - apply(2, m0, i) - 2.0 * apply(1, m1, i);
+        solve(m2);
+        for (std::size_t k = 0; k < J; ++k)
+          {
+            double *out = taylor + 3 * (first + J + k);
+            out[0]      = m0[k];
+            out[1]      = m1[k];
+            out[2]      = m2[k];
+          }
       }
-      // The Hermite slope at rung k.
-      Slope slope(const MeshPhase &ph, const std::size_t k) const
+
+    public:
+      // Where the interpolant does not grow with the compression at the phase of `taylor`: the
+      // interval k (between rungs k and k + 1; J - 1 for the straight line above the top) whose
+      // slope dY/dX = 6 d t (1 - t) + m_k (3t^2 - 4t + 1) + m_{k+1} (3t^2 - 2t), d its secant,
+      // is not positive somewhere on [0, 1], or -1.
+      long not_monotone(const std::vector<double> &taylor) const
       {
-        if (k == 0)
-          return lowest_slope(secant_of(ph, 0));
-        if (k == Y.size() - 1)
-          return top_slope(ph);
-        return harmonic(secant_of(ph, k - 1), secant_of(ph, k));
+        const MeshPhase   ph{taylor.data(), 0.0, 0.0};
+        const std::size_t J = Y.size();
+        for (std::size_t k = 0; k + 1 < J; ++k)
+          {
+            const double dk = (Y[k + 1] - Y[k]) / (x(ph, k + 1) - x(ph, k));
+            const double m0 = slope(ph, k).m, m1 = slope(ph, k + 1).m;
+            const double qa = -6.0 * dk + 3.0 * m0 + 3.0 * m1, qb = 6.0 * dk - 4.0 * m0 - 2.0 * m1;
+            double       low = std::min(m0, m1);
+            if (qa > 0.0 && -qb > 0.0 && -qb < 2.0 * qa)
+              low = std::min(low, m0 - qb * qb / (4.0 * qa));
+            if (!(low > 0.0))
+              return static_cast<long>(k);
+          }
+        return slope(ph, J - 1).m > 0.0 ? -1 : static_cast<long>(J - 1);
       }
+
+    private:
       // The rung interval k with X_k <= X < X_{k+1} (X inside the ladder).
-      std::size_t interval(const MeshPhase &ph, const double X) const
+      template <class Phase>
+      std::size_t interval(const Phase &ph, const double X) const
       {
         std::size_t lo = 0, hi = Y.size() - 1;
         while (hi - lo > 1)
@@ -330,7 +463,72 @@ namespace hertzgear::dynamics
       unsigned                   first;
     };
 
-    // Phase coefficients: X_j of the structural member (j = 0..J-1), then of the Hertzian one.
+    // The coefficients X_j, m_j of both members at a mesh angle, from their table over the
+    // cycle: N nodes theta_i = i h, h = 2 pi / N, each coefficient's value, h d/dtheta and h^2
+    // d^2/dtheta^2 at every node, and the quintic Hermite polynomial through the two nodes of the
+    // angle's cell (exact for a quintic; error ~ (h/2)^6 f^(6) / 720). Values and rates are
+    // computed per coefficient, when the force asks for it.
+    class GridPhase
+    {
+    public:
+      GridPhase(const std::vector<double> &grid, const unsigned n_nodes, const unsigned per_node,
+                const double theta, const double w)
+      {
+        double u = theta * (double(n_nodes) / (2.0 * M_PI));
+        // floor(u) by truncation (std::floor is a library call without SSE4.1); u >= -1 here.
+        double cell = double(std::int64_t(u));
+        cell        = cell > u ? cell - 1.0 : cell;
+        t      = u - cell;
+        long i = static_cast<long>(cell); // in -1 .. N
+        i      = i < 0 ? i + long(n_nodes) : (i >= long(n_nodes) ? i - long(n_nodes) : i);
+        n0     = grid.data() + std::size_t(i) * per_node;
+        n1     = grid.data() + std::size_t(i + 1 == long(n_nodes) ? 0 : i + 1) * per_node;
+        const double t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t;
+        b[0]            = 1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5;
+        b[1]            = t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5;
+        b[2]            = 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5);
+        b[3]            = 10.0 * t3 - 15.0 * t4 + 6.0 * t5;
+        b[4]            = -4.0 * t3 + 7.0 * t4 - 3.0 * t5;
+        b[5]            = 0.5 * (t3 - 2.0 * t4 + t5);
+        // d/dt of the same, times d t/d time = w N / 2 pi.
+        const double r = w * (double(n_nodes) / (2.0 * M_PI));
+        db[0]          = r * (-30.0 * t2 + 60.0 * t3 - 30.0 * t4);
+        db[1]          = r * (1.0 - 18.0 * t2 + 32.0 * t3 - 15.0 * t4);
+        db[2]          = r * 0.5 * (2.0 * t - 9.0 * t2 + 12.0 * t3 - 5.0 * t4);
+        db[3]          = -db[0];
+        db[4]          = r * (-12.0 * t2 + 28.0 * t3 - 15.0 * t4);
+        db[5]          = r * 0.5 * (3.0 * t2 - 8.0 * t3 + 5.0 * t4);
+      }
+      double value(const unsigned c) const
+      {
+        const double *p = n0 + 3 * c, *q = n1 + 3 * c;
+        return b[0] * p[0] + b[1] * p[1] + b[2] * p[2] + b[3] * q[0] + b[4] * q[1] + b[5] * q[2];
+      }
+      double rate(const unsigned c) const
+      {
+        const double *p = n0 + 3 * c, *q = n1 + 3 * c;
+        return db[0] * p[0] + db[1] * p[1] + db[2] * p[2] + db[3] * q[0] + db[4] * q[1] +
+               db[5] * q[2];
+      }
+      // The straight line between the nodes (to find an interval; within ~h^2 f'' / 8).
+      double estimate(const unsigned c) const
+      {
+        const double p = n0[3 * c];
+        return p + t * (n1[3 * c] - p);
+      }
+
+    private:
+      const double *n0 = nullptr, *n1 = nullptr;
+      double        t = 0.0;
+      double        b[6], db[6];
+    };
+
+    inline double estimate(const GridPhase &ph, const unsigned c) { return ph.estimate(c); }
+
+    // The law's coefficients: X_j and m_j of the structural member (j = 0..J-1), then of the
+    // Hertzian one (4 J), computed exactly at a phase (LadderMember::phase_coefficients) to make
+    // their table over the cycle; the model's phase coefficient is the mesh angle itself, from
+    // which an evaluation interpolates the few coefficients it needs (GridPhase).
     class FeMapLaw : public MeshForceLaw
     {
     public:
@@ -340,50 +538,63 @@ namespace hertzgear::dynamics
         , J(static_cast<unsigned>(table.ladder.n_rungs()))
         , structural(table.ladder.load_N, structural_part(table.ladder), 1.0, structural_varies, 0)
         , hertz(table.ladder.load_N, table.ladder.hertz_approach_m, table.hertz_exponent,
-                hertz_varies, J)
+                hertz_varies, 2 * J)
         , top(table.ladder.load_N.back())
       {
         // The interpolants between positions must keep every rung's compression growing with
         // the load: checked at 8 phases per position (the interpolants' harmonics are at most
         // S / 2, so this samples each at 16 points per period of the highest).
         const std::size_t   S = table.ladder.n_positions(), n_check = 8 * S;
-        std::vector<double> taylor(3 * n_phase_coefficients());
+        std::vector<double> taylor(n_coefficients());
         std::vector<std::vector<double>> taylors;
         for (std::size_t i = 0; i < n_check; ++i)
           {
             const double theta = 2.0 * M_PI * double(i) / n_check;
-            phase_coefficients(std::cos(theta), std::sin(theta), taylor.data());
+            exact_coefficients(std::cos(theta), std::sin(theta), taylor.data());
             for (const auto *m : {&structural, &hertz})
               {
-                const long j = m->not_increasing(taylor);
+                const char *member = m == &structural ? "structural" : "Hertzian";
+                const long  j      = m->not_increasing(taylor);
                 HG_REQUIRE_INPUT(j < 0, "stiffness table: load_ladder: between its positions, at "
-                                        "mesh phase ", double(i) / n_check, ", the ",
-                                 m == &structural ? "structural" : "Hertzian",
+                                        "mesh phase ", double(i) / n_check, ", the ", member,
                                  " approach interpolated over the cycle does not grow from ",
                                  table.ladder.load_N[j], " N to ", table.ladder.load_N[j + 1],
                                  " N: the ladder needs more positions per cycle or rungs further "
                                  "apart");
+                const long k = m->not_monotone(taylor);
+                HG_REQUIRE_INPUT(k < 0, "stiffness table: load_ladder: at mesh phase ",
+                                 double(i) / n_check, " the ", member, " force interpolated ",
+                                 k + 1 < long(J) ? "between the rungs of " : "above the top rung of ",
+                                 table.ladder.load_N[std::min<long>(k, J - 1)], " N",
+                                 k + 1 < long(J) ? " and " + std::to_string(table.ladder.load_N[k + 1]) + " N" : std::string(),
+                                 " does not grow with the compression: the ladder needs rungs "
+                                 "closer together where its stiffness changes fast");
               }
             if (i % 8 == 0)
               taylors.push_back(taylor);
           }
         k_bound = structural.stiffness_bound(taylors);
-        mean_taylor.assign(3 * n_phase_coefficients(), 0.0);
+        mean_taylor.assign(n_coefficients(), 0.0);
         structural.mean_coefficients(mean_taylor.data());
         hertz.mean_coefficients(mean_taylor.data());
+        tabulate();
       }
 
-      unsigned n_phase_coefficients() const override { return 2 * J; }
+      // One phase coefficient: the mesh angle theta (its Taylor triple theta, 1, 0 is exact).
+      unsigned n_phase_coefficients() const override { return 1; }
       bool     varies_with_phase() const override { return structural.varies() || hertz.varies(); }
       void     phase_coefficients(const double c1, const double s1, double *taylor) const override
       {
-        structural.phase_coefficients(c1, s1, taylor);
-        hertz.phase_coefficients(c1, s1, taylor);
+        const double theta = std::atan2(s1, c1);
+        taylor[0]          = theta < 0.0 ? theta + 2.0 * M_PI : theta;
+        taylor[1]          = 1.0;
+        taylor[2]          = 0.0;
       }
 
-      void evaluate(const MeshPhase &phase, const double u, const double d,
-                    MeshLawForces &out) const override
+      void forces(const MeshPhase &phase, const double u, const double d, MeshLawForces &out,
+                  const bool rates) const override
       {
+        const GridPhase g = at(phase);
         const auto member = [&](const LadderMember &m, const double a, const double p, double &F,
                                 double &dF_da, double &dF_dt) {
           if (a == 0.0)
@@ -391,10 +602,10 @@ namespace hertzgear::dynamics
               // F = c_0 a^p near zero: slope c_0 for p = 1, else 0.
               F     = 0.0;
               dF_dt = 0.0;
-              dF_da = p == 1.0 ? m.force(phase, 1.0e-30).dF_da : 0.0;
+              dF_da = p == 1.0 ? m.force(g, 1.0e-30).dF_da : 0.0;
               return;
             }
-          const MemberForce f = m.force(phase, std::abs(a));
+          const MemberForce f = m.force(g, std::abs(a), rates);
           F                   = sign(a) * f.F;
           dF_da               = f.dF_da;
           dF_dt               = sign(a) * f.dF_dt;
@@ -412,10 +623,11 @@ namespace hertzgear::dynamics
         const double a = std::abs(f);
         if (a == 0.0)
           return 0.0;
-        double lo = 0.0, hi = a, d = 0.5 * a;
+        const GridPhase g = at(phase);
+        double          lo = 0.0, hi = a, d = 0.5 * a;
         for (int it = 0; it < 200; ++it)
           {
-            const MemberForce r = structural.force(phase, a - d), h = hertz.force(phase, d);
+            const MemberForce r = structural.force(g, a - d), h = hertz.force(g, d);
             const double      phi = r.F - h.F;
             (phi > 0.0 ? lo : hi) = d;
             const double dphi = -r.dF_da - h.dF_da;
@@ -433,8 +645,9 @@ namespace hertzgear::dynamics
       MeshLawEnergy elastic_energy(const MeshPhase &phase, const double u,
                                    const double d) const override
       {
-        return {u == 0.0 ? 0.0 : structural.energy(phase, std::abs(u)),
-                d == 0.0 ? 0.0 : hertz.energy(phase, std::abs(d))};
+        const GridPhase g = at(phase);
+        return {u == 0.0 ? 0.0 : structural.energy(g, std::abs(u)),
+                d == 0.0 ? 0.0 : hertz.energy(g, std::abs(d))};
       }
 
       void static_compressions(const double F, double &u, double &delta) const override
@@ -457,12 +670,80 @@ namespace hertzgear::dynamics
         return u;
       }
 
+      unsigned n_coefficients() const
+      {
+        return 3 * (structural.n_phase_coefficients() + hertz.n_phase_coefficients());
+      }
+      void exact_coefficients(const double c1, const double s1, double *taylor) const
+      {
+        structural.phase_coefficients(c1, s1, taylor);
+        hertz.phase_coefficients(c1, s1, taylor);
+      }
+      GridPhase at(const MeshPhase &phase) const
+      {
+        return GridPhase(grid, n_nodes, n_coefficients(), phase.value(0), phase.w);
+      }
+
+      // The table over the cycle: N = 2^k nodes, from 64 up, doubled until the
+      // quintic reproduces every coefficient at every cell's midpoint within 1e-12 (X_j: of the
+      // logarithm, so relative in the compression; m_j: of the slope, ~1) and its rate within
+      // 1e-10 per radian; a constant law takes one node.
+      void tabulate()
+      {
+        const unsigned per = n_coefficients();
+        if (!varies_with_phase())
+          {
+            n_nodes = 1;
+            grid    = mean_taylor;
+            return;
+          }
+        std::vector<double> exact(per);
+        for (n_nodes = 64;; n_nodes *= 2)
+          {
+            const double h = 2.0 * M_PI / n_nodes;
+            grid.assign(std::size_t(n_nodes) * per, 0.0);
+            for (unsigned i = 0; i < n_nodes; ++i)
+              {
+                double *node = grid.data() + std::size_t(i) * per;
+                exact_coefficients(std::cos(i * h), std::sin(i * h), node);
+                for (unsigned c = 0; c < per; c += 3)
+                  {
+                    node[c + 1] *= h;
+                    node[c + 2] *= h * h;
+                  }
+              }
+            double value_error = 0.0, rate_error = 0.0;
+            for (unsigned i = 0; i < n_nodes; ++i)
+              {
+                const double theta = (i + 0.5) * h;
+                exact_coefficients(std::cos(theta), std::sin(theta), exact.data());
+                const GridPhase g(grid, n_nodes, per, theta, 1.0);
+                for (unsigned c = 0; 3 * c < per; ++c)
+                  {
+                    value_error = std::max(value_error, std::abs(g.value(c) - exact[3 * c]));
+                    rate_error  = std::max(rate_error, std::abs(g.rate(c) - exact[3 * c + 1]));
+                  }
+              }
+            HG_REQUIRE_INPUT(n_nodes < max_nodes || (value_error <= 1e-12 && rate_error <= 1e-10),
+                             "stiffness table: load_ladder: its phase variation is too rough to "
+                             "tabulate over the cycle: ", max_nodes, " nodes leave an error of ",
+                             value_error, " in the logarithm of the compression");
+            if (value_error <= 1e-12 && rate_error <= 1e-10)
+              return;
+          }
+      }
+
+      // The most nodes of the table over the cycle.
+      static constexpr unsigned max_nodes = 16384;
+
       double              n;
       unsigned            J;
       LadderMember        structural, hertz;
       double              top;
       double              k_bound = 0.0;
       std::vector<double> mean_taylor;
+      std::vector<double> grid;
+      unsigned            n_nodes = 1;
     };
   } // namespace
 
@@ -474,6 +755,8 @@ namespace hertzgear::dynamics
                      "the FE force law needs a stiffness table with a load ladder (load_ladder): "
                      "Stiffness/source = fem makes one");
     table.ladder.check("stiffness table: load_ladder");
+    HG_REQUIRE_INPUT(table.ladder.n_rungs() <= max_rungs, "stiffness table: load_ladder: ",
+                     table.ladder.n_rungs(), " loads; the FE force law takes at most ", max_rungs);
     HG_REQUIRE_INPUT(table.ladder.n_positions() <= 1024, "stiffness table: load_ladder: ",
                      table.ladder.n_positions(), " positions per cycle; the FE force law takes at "
                      "most 1024");

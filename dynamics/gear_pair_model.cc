@@ -4,6 +4,8 @@
 #include "common/names.h"
 
 #include <algorithm>
+#include <array>
+#include <memory>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -24,6 +26,43 @@ namespace hertzgear::dynamics
       {"viscous-only", ContactDamping::viscous_only}};
     const NameTable<MeshForceLawKind, 2> mesh_force_law_names = {
       {"serial-hertz", MeshForceLawKind::serial_hertz}, {"fe-map", MeshForceLawKind::fe_map}};
+    // The phase coefficients of one law on one thread, by the models' phase key.
+    struct LawPhaseStore
+    {
+      std::uint64_t                    law = 0; // the law's id; 0: unused
+      std::unique_ptr<std::uint64_t[]> keys;
+      std::unique_ptr<double[]>        frac;
+      std::unique_ptr<double[]>        taylor; // unset until a phase fills its entry
+    };
+
+    // The store of `law` on this thread: the last few laws' stores are kept, most recently used
+    // first (a comparison of laws alternates between two; a family shares one), so that the
+    // models of a family, built at every speed or corrector step, find the phases their
+    // predecessors filled. Entries hold the law's triples per phase only, so they serve every
+    // model of the law.
+    LawPhaseStore &law_phase_store(const MeshForceLaw &law, const unsigned per_entry,
+                                   const std::size_t n)
+    {
+      constexpr std::size_t                        n_stores = 4;
+      thread_local std::array<LawPhaseStore, n_stores> stores;
+      if (stores[0].law == law.id())
+        return stores[0];
+      std::size_t i = 1;
+      while (i < n_stores && stores[i].law != law.id())
+        ++i;
+      if (i == n_stores)
+        {
+          i                  = n_stores - 1;
+          LawPhaseStore &s   = stores[i];
+          s.law              = law.id();
+          s.keys.reset(new std::uint64_t[n]);
+          std::fill(s.keys.get(), s.keys.get() + n, ~std::uint64_t(0));
+          s.frac.reset(new double[n]);
+          s.taylor.reset(new double[std::size_t(n) * std::max(per_entry, 1u)]);
+        }
+      std::rotate(stores.begin(), stores.begin() + i, stores.begin() + i + 1);
+      return stores[0];
+    }
   } // namespace
 
   std::string Effects::describe() const
@@ -139,7 +178,7 @@ namespace hertzgear::dynamics
       ste_series = FourierEvaluator(prm.stiffness.unloaded_ste_m);
     phase_varies = law->varies_with_phase() || !ste_series.constant();
 
-    store = PhaseStore(n_law_taylor);
+    store = PhaseStore(prm.effects.ste_excitation);
     cycles_per_s = prm.mesh_frequency_rad_per_s / (2.0 * M_PI);
     b_c             = prm.effects.backlash ? prm.half_backlash_m : 0.0;
     has_delta_state = prm.effects.hertzian_layer == HertzianLayer::dynamic && !prm.rigid_structure;
@@ -198,30 +237,47 @@ namespace hertzgear::dynamics
     constexpr auto one    = std::uint64_t(1) << phase_bits;
     const std::uint64_t key = std::uint64_t(frac * double(one) + 0.5) & (one - 1);
     const unsigned slot = unsigned((key * 0x9E3779B97F4A7C15ull) >> (64 - cache_bits));
-    PhaseEntry    &en   = store.entries[slot];
-    double        *lt   = store.law.get() + std::size_t(slot) * n_law_taylor;
-    if (en.key != key)
+    LawPhaseStore &ls   = law_phase_store(*law, n_law_taylor, cache_size);
+    double        *lt   = ls.taylor.get() + std::size_t(slot) * n_law_taylor;
+    double         c1 = 1.0, s1 = 0.0;
+    bool           have_angle = false;
+    const auto     angle = [&] {
+      if (phase_varies && !have_angle)
+        {
+          c1 = std::cos(2.0 * M_PI * frac);
+          s1 = std::sin(2.0 * M_PI * frac);
+        }
+      have_angle = true;
+    };
+    if (ls.keys[slot] != key)
       {
-        en.key  = key;
-        en.frac = frac;
-        double c1 = 1.0, s1 = 0.0;
-        if (phase_varies)
-          {
-            c1 = std::cos(2.0 * M_PI * frac);
-            s1 = std::sin(2.0 * M_PI * frac);
-          }
+        ls.keys[slot] = key;
+        ls.frac[slot] = frac;
+        angle();
         law->phase_coefficients(c1, s1, lt);
-        if (prm.effects.ste_excitation)
-          ste_series.taylor(c1, s1, en.e);
       }
-    // The angle from the entry's phase (0 when this phase filled it; across 0 = 1 the short way).
-    double d = frac - en.frac;
-    d        = d > 0.5 ? d - 1.0 : (d < -0.5 ? d + 1.0 : d);
-    const double dth = 2.0 * M_PI * d;
     Coefficients r;
-    r.law    = MeshPhase{lt, dth, w};
-    r.e      = en.e[0] + en.e[1] * dth;
-    r.e_rate = w * (en.e[1] + en.e[2] * dth);
+    // The angle from the entry's phase (0 when this phase filled it; across 0 = 1 the short way).
+    const auto angle_from = [&](const double entry_frac) {
+      double d = frac - entry_frac;
+      d        = d > 0.5 ? d - 1.0 : (d < -0.5 ? d + 1.0 : d);
+      return 2.0 * M_PI * d;
+    };
+    r.law = MeshPhase{lt, angle_from(ls.frac[slot]), w};
+    if (prm.effects.ste_excitation)
+      {
+        PhaseEntry &en = store.entries[slot];
+        if (en.key != key)
+          {
+            en.key  = key;
+            en.frac = frac;
+            angle();
+            ste_series.taylor(c1, s1, en.e);
+          }
+        const double dth = angle_from(en.frac);
+        r.e              = en.e[0] + en.e[1] * dth;
+        r.e_rate         = w * (en.e[1] + en.e[2] * dth);
+      }
     return r;
   }
 
@@ -251,7 +307,7 @@ namespace hertzgear::dynamics
         case HertzianLayer::off:
           {
             // Kahraman-Singh: the viscous part is kept, F may turn negative in contact.
-            law->evaluate(co.law, r.f, 0.0, L);
+            law->forces(co.law, r.f, 0.0, L, false);
             r.force        = L.structural + c * r.f_dot;
             r.u_dot        = r.f_dot;
             r.layer_closed = r.zone != 0;
@@ -275,7 +331,7 @@ namespace hertzgear::dynamics
           {
             if (prm.rigid_structure)
               {
-                law->evaluate(co.law, 0.0, r.f, L);
+                law->forces(co.law, 0.0, r.f, L, false);
                 r.penetration  = r.f;
                 r.delta_dot    = r.f_dot;
                 r.layer_closed = r.zone != 0;
@@ -283,7 +339,7 @@ namespace hertzgear::dynamics
                 break;
               }
             const double d = y[2];
-            law->evaluate(co.law, r.f - d, d, L);
+            law->forces(co.law, r.f - d, d, L, false);
             r.penetration  = d;
             r.layer_closed = r.zone != 0 && d * r.zone > 0.0;
             if (r.layer_closed)

@@ -202,13 +202,14 @@ namespace hertzgear::dynamics
     double             b_c              = 0.0;
     double             mu               = 0.0; // current contact damping coefficient
     double             x_scale          = 0.0;
-    // The store of coefficients, direct-mapped on the mesh phase rounded to 2^-phase_bits of a
+    // The stores of coefficients, direct-mapped on the mesh phase rounded to 2^-phase_bits of a
     // period (the key; all ones: empty). An entry keeps each series' value and first two
-    // derivatives at the exact phase that filled it (the law's in the store's block, n_law_taylor per
-    // entry); another phase of the same key (at most 2^-phase_bits of a period away) is served
-    // by the Taylor polynomial, exact to rounding at that distance. It holds several periods'
-    // worth of stage phases, so that a periodic motion, whose steps repeat every period, finds
-    // them again.
+    // derivatives at the exact phase that filled it; another phase of the same key (at most
+    // 2^-phase_bits of a period away) is served by the Taylor polynomial, exact to rounding at
+    // that distance. A store holds several periods' worth of stage phases, so that a periodic
+    // motion, whose steps repeat every period, finds them again. The law's coefficients depend
+    // on the phase alone: they are kept per law and thread (gear_pair_model.cc), shared by every
+    // model of that law on the thread, at any speed; the unloaded STE's here, per model.
     struct PhaseEntry
     {
       std::uint64_t key  = ~std::uint64_t(0);
@@ -217,27 +218,21 @@ namespace hertzgear::dynamics
     };
     static constexpr int      phase_bits = 36;
     static constexpr unsigned cache_bits = 12, cache_size = 1u << cache_bits;
-    // The entries and the law's triples of every entry, which stay unset until a phase fills the
-    // entry (a law with many coefficients, such as the FE law's 2 per rung, makes the block
-    // megabytes: the models of a continuation, built at every corrector step, must not clear it).
-    // A copy of the store is an empty store of the same size: a copied model fills its own.
+    // The STE's entries (none without the STE excitation). A copy of the store is an empty
+    // store of the same size: a copied model fills its own.
     struct PhaseStore
     {
-      std::vector<PhaseEntry>   entries;
-      std::unique_ptr<double[]> law;
-      unsigned                  per_entry = 0;
+      std::vector<PhaseEntry> entries;
 
       PhaseStore() = default;
-      explicit PhaseStore(const unsigned n)
-        : entries(cache_size), law(new double[std::size_t(cache_size) * n]), per_entry(n)
-      {}
-      PhaseStore(const PhaseStore &other) : PhaseStore(other.per_entry) {}
+      explicit PhaseStore(const bool used) : entries(used ? cache_size : 0) {}
+      PhaseStore(const PhaseStore &other) : PhaseStore(!other.entries.empty()) {}
       PhaseStore(PhaseStore &&)            = default;
       PhaseStore &operator=(PhaseStore &&) = default;
       PhaseStore &operator=(const PhaseStore &other)
       {
         if (this != &other)
-          *this = PhaseStore(other.per_entry);
+          *this = PhaseStore(!other.entries.empty());
         return *this;
       }
     };

@@ -15,6 +15,7 @@
 //   coefficients, at every evaluation.
 #include "table/stiffness_table.h"
 
+#include <cstdint>
 #include <limits>
 #include <memory>
 
@@ -65,7 +66,13 @@ namespace hertzgear::dynamics
   class MeshForceLaw
   {
   public:
+    MeshForceLaw();
     virtual ~MeshForceLaw() = default;
+
+    // A number that no other law object of the process has: the models keep a law's phase
+    // coefficients per law and thread under it, shared by all models of that law (a family of
+    // models over a parameter, built anew at every step, meets its phases again).
+    std::uint64_t id() const { return id_; }
 
     // The coefficients that depend on the mesh phase only.
     virtual unsigned n_phase_coefficients() const = 0;
@@ -75,8 +82,16 @@ namespace hertzgear::dynamics
     // sin(theta), into taylor[3 i .. 3 i + 2].
     virtual void phase_coefficients(double cos_theta, double sin_theta, double *taylor) const = 0;
 
-    virtual void evaluate(const MeshPhase &phase, double u, double delta,
-                          MeshLawForces &out) const = 0;
+    // The forces at (phase, u, delta). Without `rates` the derivatives in time at fixed
+    // compression (structural_dt, hertz_dt) are left 0: only the quasi-static layer needs them,
+    // and a law may save their cost.
+    virtual void forces(const MeshPhase &phase, double u, double delta, MeshLawForces &out,
+                        bool rates) const = 0;
+    void evaluate(const MeshPhase &phase, const double u, const double delta,
+                  MeshLawForces &out) const
+    {
+      forces(phase, u, delta, out, true);
+    }
     // The Hertzian compression delta of the massless serial mesh at the total compression f:
     // K_r(f - delta) = K_h(delta), sign(delta) = sign(f), |delta| <= |f|.
     virtual double quasi_static_penetration(const MeshPhase &phase, double f) const = 0;
@@ -93,6 +108,9 @@ namespace hertzgear::dynamics
     {
       return std::numeric_limits<double>::infinity();
     }
+
+  private:
+    std::uint64_t id_;
   };
 
   // The paper's law (docs/dynamics.md): a structural spring linear in u with stiffness k(theta)

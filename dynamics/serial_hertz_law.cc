@@ -5,6 +5,7 @@
 #include "dynamics/power_law.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace hertzgear::dynamics
@@ -41,8 +42,8 @@ namespace hertzgear::dynamics
         kh_series.taylor(c1, s1, taylor + 3);
       }
 
-      void evaluate(const MeshPhase &phase, const double u, const double d,
-                    MeshLawForces &out) const override
+      void forces(const MeshPhase &phase, const double u, const double d, MeshLawForces &out,
+                  bool) const override
       {
         const double k = phase.value(0), kh = phase.value(1);
         const double Hd = power(std::abs(d), n), Gd = sign(d) * Hd;
@@ -110,6 +111,12 @@ namespace hertzgear::dynamics
       double           n, k_mean, kh_mean, k_bound;
     };
   } // namespace
+
+  MeshForceLaw::MeshForceLaw()
+  {
+    static std::atomic<std::uint64_t> next{1};
+    id_ = next.fetch_add(1, std::memory_order_relaxed);
+  }
 
   std::shared_ptr<const MeshForceLaw> serial_hertz_law(const table::StiffnessTable &table)
   {

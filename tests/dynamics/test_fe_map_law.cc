@@ -2,7 +2,7 @@
 // - on a ladder made from the serial law it is the serial law (one model, two implementations):
 //   forces, derivatives, static compressions and the dynamics of an orbit;
 // - at every rung and position it reproduces the ladder (the static equilibrium of the FE);
-// - it is monotone and C1 in the compression, its derivatives are those of its forces, and
+// - it is monotone and C2 in the compression, its derivatives are those of its forces, and
 //   below the lowest rung it follows the contact's own exponent;
 // - a ladder it cannot serve is refused, naming the position and load.
 #include "dynamics/mesh_force_law.h"
@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -139,10 +140,16 @@ TEST(FeMapLaw, ReproducesTheLadderAtEveryRungAndPosition)
 
 // Requirement: the law's derivatives in the compressions and in time are those of its forces
 // (central differences, as for the serial law: step 1e-4 relative, truncation ~1e-8, 1e-6
-// bounds it), inside the ladder, below and above it; and it is C1 across the rungs: value and
-// slope on either side of a rung (1e-9 of the compression away) agree to 1e-6 relative (the
-// slope's change over that step is ~1e-9 of it; a kink would differ by the secants' ratio).
-TEST(FeMapLaw, DerivativesAreThoseOfTheForcesAndTheLawIsC1AcrossRungs)
+// bounds it), inside the ladder, below and above it; and it is C2 across the inner rungs and the
+// top (so that an integrator's error estimate does not see the rungs): value and slope on either
+// side of a rung (1e-9 of the compression away) agree to 1e-6 relative (the slope's change over
+// that step is ~1e-9 of it; a kink would differ by the secants' ratio), and so do the one-sided
+// differences of the slope, (dF/da(a (1 + 2e)) - dF/da(a (1 + e))) / (a e) and its mirror,
+// e = 1e-6: C2 leaves them apart by the truncation ~3 e a F'''/F'', at most 1.0e-4 of F'' here
+// (1.0e-3 at e = 1e-5), and by rounding ~1e-9; 1e-3 bounds that, while the jump of the
+// curvature at a rung of a C1 cubic (the monotone Hermite one) fails 66 of these checks on this
+// ladder, by up to 1.8 F''.
+TEST(FeMapLaw, DerivativesAreThoseOfTheForcesAndTheLawIsC2AcrossRungs)
 {
   const auto t   = nonlinear_table();
   const auto law = fe_map_law(t, true, true);
@@ -188,6 +195,25 @@ TEST(FeMapLaw, DerivativesAreThoseOfTheForcesAndTheLawIsC1AcrossRungs)
           EXPECT_LT(rel(above.structural_du, below.structural_du), 1e-6) << F;
           EXPECT_LT(rel(above.hertz_ddelta, below.hertz_ddelta), 1e-6) << F;
           EXPECT_LT(rel(above.structural, below.structural), 1e-8) << F;
+          if (F == t.ladder.load_N.front())
+            continue; // the lowest rung: p below it, the spline's curvature above (C1)
+          const auto slopes = [&](const double f) {
+            MeshLawForces m;
+            law->evaluate(at.phase, u * f, d * f, m);
+            return std::array<double, 2>{m.structural_du, m.hertz_ddelta};
+          };
+          constexpr double e  = 1e-6;
+          const auto       s2 = slopes(1 + 2 * e), s1 = slopes(1 + e);
+          const auto       s_1 = slopes(1 - e), s_2 = slopes(1 - 2 * e);
+          for (int i = 0; i < 2; ++i)
+            {
+              const double a               = i == 0 ? u : d;
+              const double above_curvature = (s2[i] - s1[i]) / (a * e);
+              const double below_curvature = (s_1[i] - s_2[i]) / (a * e);
+              EXPECT_LT(rel(above_curvature, below_curvature), 1e-3)
+                << (i == 0 ? "structural" : "Hertzian") << " at " << F << " N: " << above_curvature
+                << " against " << below_curvature;
+            }
         }
     }
 }
@@ -221,7 +247,7 @@ TEST(FeMapLaw, ForceGrowsStrictlyWithTheCompression)
 
 // Requirement: below the lowest rung each member follows its contact's own exponent down to
 // first touch (structural 1, Hertzian n): F(a / 2) / F(a) = 2^-p to rounding (1e-12). Above the
-// top the law is the power law of the top interval's exponent and says where its data end.
+// top the law is the power law of the spline's end slope and says where its data end.
 TEST(FeMapLaw, BelowTheLowestRungTheContactsOwnExponent)
 {
   const auto    t   = nonlinear_table();
@@ -239,8 +265,9 @@ TEST(FeMapLaw, BelowTheLowestRungTheContactsOwnExponent)
 }
 
 // Requirement (bad input): a table without a ladder, a ladder that does not grow with the load
-// (named by position and load), one that stops below the nominal load or has one rung, and the
-// FE law without the Hertzian layer are refused with InputError saying so.
+// (named by position and load), one whose interpolated force would not grow with the compression
+// between two rungs (named by the rungs' loads), one that stops below the nominal load or has one
+// rung, and the FE law without the Hertzian layer are refused with InputError saying so.
 TEST(FeMapLaw, RefusesALadderItCannotServe)
 {
   const auto message = [](const hertzgear::table::StiffnessTable &t) -> std::string {
@@ -266,6 +293,20 @@ TEST(FeMapLaw, RefusesALadderItCannotServe)
   EXPECT_NE(m1.find("position 3"), std::string::npos) << m1;
   EXPECT_NE(m1.find(" N"), std::string::npos) << m1;
   EXPECT_NE(m1.find("does not grow"), std::string::npos) << m1;
+
+  // The Hertzian approach at 140 % of F_0 a thousandth above that at 100 %: the stiffness jumps
+  // by a factor ~300 between two rungs and the spline through them overshoots.
+  auto jump = nonlinear_table();
+  for (std::size_t s = 0; s < jump.ladder.n_positions(); ++s)
+    {
+      const double before = jump.ladder.hertz_approach_m[8][s];
+      jump.ladder.hertz_approach_m[8][s] = 1.001 * jump.ladder.hertz_approach_m[7][s];
+      jump.ladder.approach_m[8][s] += jump.ladder.hertz_approach_m[8][s] - before;
+    }
+  const std::string m2 = message(jump);
+  EXPECT_NE(m2.find("Hertzian force"), std::string::npos) << m2;
+  EXPECT_NE(m2.find("does not grow with the compression"), std::string::npos) << m2;
+  EXPECT_NE(m2.find(" N and "), std::string::npos) << m2;
 
   auto low = nonlinear_table();
   low.ladder.nominal_load_N = 10.0 * low.ladder.load_N.back();
