@@ -1,6 +1,9 @@
-// `hertzgear report DIR [--out REPORT_DIR]`: figures and an HTML page from the artifacts of a run.
+// `hertzgear report DIR [--out REPORT_DIR] [--compare OTHER_DIR]...`: figures and an HTML page
+// from the artifacts of a run.
 //
 //   hertzgear report results/paper_crowned          -> results/paper_crowned/report/index.html
+//   hertzgear report results/response-fe --compare results/response-serial
+//                                  (the periodic orbits of both runs on one response figure)
 //
 // The figures are drawn by scripts/hertzgear_report.py (matplotlib, Agg backend). This command
 // finds the script (installed under <prefix>/share/hertzgear/scripts/, or in the source tree of a
@@ -30,7 +33,8 @@ namespace hertzgear
   {
     constexpr const char *script_name = "hertzgear_report.py";
 
-    int run_report(const CommandContext &ctx, const std::string &run_dir)
+    int run_report(const CommandContext &ctx, const std::string &run_dir,
+                   const std::vector<std::string> &compared)
     {
       HG_REQUIRE_INPUT(ctx.overrides.empty(),
                        "report reads finished artifacts and takes no --set (got \"",
@@ -38,6 +42,9 @@ namespace hertzgear
       // Before the lock, which would make the folder.
       HG_REQUIRE_INPUT(fs::is_directory(run_dir), "the run directory ", run_dir,
                        " does not exist or is not a directory");
+      for (const auto &other : compared)
+        HG_REQUIRE_INPUT(fs::is_directory(other), "--compare ", other,
+                         ": the run directory does not exist or is not a directory");
       // A run that writes into the folder would have the report draw its old artifacts beside
       // its new ones: the report holds the folder's lock, as a run does, and stops with exit 2
       // while another process holds it. A folder this user cannot write into (shipped results)
@@ -51,11 +58,13 @@ namespace hertzgear
       ctx.start->begin(folders);
       if (!processes::is_root())
         return 0; // one process draws
-      return write_report(run_dir, ctx.out_dir);
+      std::vector<fs::path> others(compared.begin(), compared.end());
+      return write_report(run_dir, ctx.out_dir, others);
     }
   } // namespace
 
-  int write_report(const fs::path &run_dir, const fs::path &report_dir)
+  int write_report(const fs::path &run_dir, const fs::path &report_dir,
+                   const std::vector<fs::path> &compared)
   {
     HG_REQUIRE_INPUT(fs::is_directory(run_dir), "the run directory ", run_dir.string(),
                      " does not exist or is not a directory");
@@ -65,6 +74,11 @@ namespace hertzgear
       {
         args.push_back("--out");
         args.push_back(report_dir.string());
+      }
+    for (const auto &other : compared)
+      {
+        args.push_back("--compare");
+        args.push_back(other.string());
       }
     const int status = run_process(args);
     switch (status)
@@ -91,14 +105,18 @@ namespace hertzgear
 
   void add_report_command(CommandRegistry &registry)
   {
-    auto      run_dir = std::make_shared<std::string>();
+    auto      run_dir  = std::make_shared<std::string>();
+    auto      compared = std::make_shared<std::vector<std::string>>();
     CLI::App *report  = registry.add_command(
       {"report",
        "Write DIR/report/index.html with figures of the artifacts in a run directory "
        "(--out puts the report elsewhere)",
        false, false},
-      [run_dir](const CommandContext &ctx) { return run_report(ctx, *run_dir); });
+      [run_dir, compared](const CommandContext &ctx) { return run_report(ctx, *run_dir, *compared); });
     report->add_option("dir", *run_dir, "Run directory holding the artifacts (CSV, JSON, .prm)")
       ->required();
+    report->add_option("--compare", *compared,
+                       "Another run's folder whose periodic orbits (response.csv) the response "
+                       "figure draws beside this run's, e.g. the other mesh force law (repeatable)");
   }
 } // namespace hertzgear

@@ -11,6 +11,7 @@
 #include "app/command.h"
 #include "app/dynamics_setup.h"
 #include "app/run_directory.h"
+#include "app/scene_keys.h"
 #include "common/errors.h"
 #include "common/progress.h"
 #include "dynamics/continuation.h"
@@ -85,9 +86,10 @@ namespace hertzgear
                                   settings.lambda_start, " towards ",
                                   settings.direction > 0 ? family.max : family.min,
                                   ": shooting with ", scene.dynamics.integrator, " at rtol ",
-                                  scene.dynamics.relative_tolerance, ", Newton tolerance ",
+                                  settings.shooting.integrator.relative_tolerance, ", Newton tolerance ",
                                   settings.shooting.tolerance, ", state dimension ",
-                                  start_model.n_states()));
+                                  start_model.n_states(), ", ",
+                                  start_model.parameters().effects.describe()));
     ContinuationResult result;
     const auto         start = std::chrono::steady_clock::now();
     const auto         elapsed = [&] {
@@ -102,8 +104,14 @@ namespace hertzgear
         });
     }
     int n_points = 0;
-    for (const auto &b : result.branches)
+    for (auto &b : result.branches)
       {
+        b.end_reason = with_scene_keys(b.end_reason); // the library's {field}s as scene keys
+        for (auto &note : b.notes)
+          {
+            note.text = with_scene_keys(note.text);
+            progress_line("response", msg("warning: branch ", b.id, ": ", note.text));
+          }
         n_points += int(b.points.size());
         progress_line("response", msg(b.ended_in_failure ? "warning: " : "", "branch ", b.id,
                                       " (period ", b.period_multiple, ", ", b.points.size(),
@@ -112,6 +120,9 @@ namespace hertzgear
     auto json         = response_json(result, family.column, elapsed());
     json["scene_key"] = family.key;
     json["range"]     = {family.min, family.max};
+    // Which model the orbits are of (the report labels the curves of compared runs with it).
+    json["effects"]        = start_model.parameters().effects.describe();
+    json["mesh_force_law"] = dynamics::mesh_force_law_name(start_model.parameters().effects.mesh_force_law);
     progress_line("response", msg(n_points, " orbits on ", result.branches.size(), " branches, ",
                                   json["bifurcations"].size(), " bifurcations, ",
                                   result.orbits_solved, " Newton iterations, ", elapsed(), " s"));

@@ -132,6 +132,8 @@ namespace hertzgear
 
   // Figures and DIR/report/index.html (or report_dir) from the artifacts in run_dir; returns the
   // exit code (2 when run_dir holds no artifact). Used by `report` and at the end of `run`.
+  // `compared`: other runs' folders whose periodic orbits the response figure draws beside.
   int write_report(const std::filesystem::path &run_dir,
-                   const std::filesystem::path &report_dir = {});
+                   const std::filesystem::path &report_dir = {},
+                   const std::vector<std::filesystem::path> &compared = {});
 } // namespace hertzgear

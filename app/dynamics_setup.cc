@@ -103,16 +103,18 @@ namespace hertzgear
                        "hertzgear response (it does not locate the switching events the "
                        "saltation matrices need): use radau-iia, cvode-bdf, arkode-erk, "
                        "arkode-dirk or ida");
-      HG_REQUIRE_INPUT(r.newton_tolerance >= 10.0 * scene.dynamics.relative_tolerance,
+      HG_REQUIRE_INPUT(r.newton_tolerance >= 10.0 * r.relative_tolerance,
                        "Response/newton_tolerance = ", r.newton_tolerance,
-                       " must be at least 10 Dynamics/relative_tolerance (",
-                       10.0 * scene.dynamics.relative_tolerance,
+                       " must be at least 10 Response/relative_tolerance (",
+                       10.0 * r.relative_tolerance,
                        "): the period map is only as smooth as its integration across the "
                        "switching events, and Newton's method cannot converge below that");
       dynamics::ContinuationSettings s;
       s.shooting.integrator         = run.integrator;
+      s.shooting.integrator.relative_tolerance = r.relative_tolerance;
       s.shooting.tolerance          = r.newton_tolerance;
       s.analysis                    = run;
+      s.analysis.integrator.relative_tolerance = r.relative_tolerance;
       s.analysis.samples_per_period = r.samples_per_period;
       s.analysis.dense_extremes     = true;
       s.lambda_min                  = family.min;
@@ -151,6 +153,18 @@ namespace hertzgear
     return source.compute(stiffness_input(scene), timer).table;
   }
 
+  dynamics::MeshForceLawKind mesh_force_law_of(const Scene &scene, const table::StiffnessTable &t)
+  {
+    const auto &law = scene.effects.mesh_force_law;
+    if (law != "auto")
+      return dynamics::mesh_force_law_from_name(law);
+    // auto: the FE law where the stiffness comes from the FE with its load ladder and the model
+    // has the Hertzian layer that is the law's second member; the paper's law otherwise.
+    return !t.ladder.empty() && scene.effects.hertzian_layer != "off" ?
+             dynamics::MeshForceLawKind::fe_map :
+             dynamics::MeshForceLawKind::serial_hertz;
+  }
+
   void check_dynamics_scene(const Scene &scene)
   {
     const auto &op = scene.operating;
@@ -173,7 +187,7 @@ namespace hertzgear
     const auto   &op = scene.operating;
     auto &p                = s.parameters;
     p.stiffness            = stiffness_table_for(scene);
-    p.effects.mesh_force_law = dynamics::mesh_force_law_from_name(scene.effects.mesh_force_law);
+    p.effects.mesh_force_law = mesh_force_law_of(scene, p.stiffness);
     p.effects.backlash     = scene.effects.backlash == "on";
     p.effects.hertzian_layer  = dynamics::hertzian_layer_from_name(scene.effects.hertzian_layer);
     p.effects.contact_damping = dynamics::contact_damping_from_name(scene.effects.contact_damping);

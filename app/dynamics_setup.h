@@ -36,6 +36,10 @@ namespace hertzgear
   // every check of the gear-pair model is made here).
   DynamicsSetup make_dynamics_setup(const Scene &scene);
 
+  // The mesh force law of the scene on its table: Effects/mesh_force_law, where auto is fe-map
+  // when the table holds a load ladder and the Hertzian layer is on, serial-hertz otherwise.
+  dynamics::MeshForceLawKind mesh_force_law_of(const Scene &scene, const table::StiffnessTable &t);
+
   // The checks of make_dynamics_setup that need no stiffness table (centre distance, speed,
   // integrator settings, periods): for a scene whose table the stiffness stage makes, so that
   // they run before any folder is made.
@@ -55,7 +59,7 @@ namespace hertzgear
   ResponseFamily response_family(const Scene &scene, const DynamicsSetup &setup);
 
   // The continuation settings of Response/* for the family's range, checked: an integrator that
-  // can shoot (not rk4), Response/newton_tolerance at least 10 Dynamics/relative_tolerance, and
+  // can shoot (not rk4), Response/newton_tolerance at least 10 Response/relative_tolerance, and
   // the settings check of dynamics/continuation.h. Throws InputError naming the key.
   dynamics::ContinuationSettings continuation_settings(const Scene &scene, const DynamicsSetup &setup,
                                                        const ResponseFamily &family);

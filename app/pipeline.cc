@@ -87,7 +87,7 @@ namespace hertzgear
         // The FE force law asks the stage for its load ladder; no other effect reaches it.
         prefixes.push_back("Effects/mesh_force_law");
         std::vector<std::string> drop = {"Operating/speed_rpm", "Stiffness/Fourier"};
-        if (scene.effects.mesh_force_law != "fe-map")
+        if (!makes_load_ladder(scene))
           drop.push_back("Stiffness/load_ladder_percent");
         if (stiffness_source(scene).uses_fe())
           {

@@ -182,12 +182,14 @@ namespace hertzgear
     {
       s.enter("Effects", "Which physical effects the dynamics model contains. An effect that is "
                          "off is absent from the equations and the state.");
-      s.add("mesh_force_law", e.mesh_force_law, "serial-hertz",
-            Patterns::Selection("serial-hertz|fe-map"),
+      s.add("mesh_force_law", e.mesh_force_law, "auto",
+            Patterns::Selection("auto|serial-hertz|fe-map"),
             "Force law of the mesh's two springs in series: serial-hertz (the paper's: the "
             "structural spring k u and the Hertzian layer k_h G(delta), fitted at the nominal "
-            "torque) or fe-map (each spring's force interpolated in the stiffness table's FE load "
-            "ladder, which Stiffness/source = fem makes; docs/dynamics.md).");
+            "torque), fe-map (each spring's force interpolated in the stiffness table's FE load "
+            "ladder, which Stiffness/source = fem makes) or auto: fe-map where the stiffness "
+            "comes from the FE (source = fem, or a table that holds a load ladder) and the model "
+            "has its Hertzian layer, serial-hertz otherwise (docs/dynamics.md).");
       s.add("backlash", e.backlash, "on", Patterns::Selection("on|off"),
             "Backlash non-linearity f(x) with half backlash b_c: on (contact loss and back-side "
             "impacts) or off (always in contact; no separation events).");
@@ -287,7 +289,8 @@ namespace hertzgear
             Patterns::List(Patterns::Double(-1.0e6, 1.0e4), 0, 64, ","),
             "Loads of the FE load ladder [% of Operating/torque_Nm], comma separated, at least 2, "
             "increasing, each > 0, the last >= 100: the mesh cycle runs again at each on the same "
-            "FE bodies when Effects/mesh_force_law = fe-map (and only then; source = fem), from "
+            "FE bodies when the dynamics use the FE force law (Effects/mesh_force_law = fe-map, or "
+            "auto with a Hertzian layer; source = fem), from "
             "near first touch to above the largest dynamic load (docs/dynamics.md, \"The FE force "
             "law\").");
       {
@@ -471,9 +474,14 @@ namespace hertzgear
             "none).");
       s.add("newton_tolerance", r.newton_tolerance, 1.0e-6, Patterns::Double(1.0e-14, 1.0e-3),
             "Newton's method stops when its correction is below this fraction of the state's "
-            "scale (dimensionless); at least 10 Dynamics/relative_tolerance, since the period "
-            "map is only as smooth as the integration across its switching events (100 is "
-            "safer).");
+            "scale (dimensionless); at least 10 Response/relative_tolerance, since the period "
+            "map is only as smooth as its integration across the switching events.");
+      s.add("relative_tolerance", r.relative_tolerance, 1.0e-10, Patterns::Double(1.0e-14, 1.0e-4),
+            "Relative tolerance of the integration of the period map, its sensitivities and each "
+            "orbit's analysis (dimensionless; Dynamics/integrator, its absolute tolerance): the "
+            "integration error, amplified by 1 / |1 - mu| near a fold, must stay below "
+            "newton_tolerance, else the corrector stalls and folds are mislocated "
+            "(docs/dynamics.md, \"Continuation of periodic orbits\").");
       s.add("samples_per_period", r.samples_per_period, 100, Patterns::Integer(8, 100000),
             "Samples per mesh period of each orbit's analysis (RMS DTE; extremes from the dense "
             "output) (count).");
@@ -738,6 +746,13 @@ namespace hertzgear
           "dimensionless coefficients say so in their meaning.\n";
     md << schema.prm.markdown();
     return md.str();
+  }
+
+  bool makes_load_ladder(const Scene &scene)
+  {
+    const auto &law = scene.effects.mesh_force_law;
+    return scene.stiffness.source == "fem" &&
+           (law == "fe-map" || (law == "auto" && scene.effects.hertzian_layer != "off"));
   }
 
   std::string scene_values_for(const Scene &scene, const std::vector<std::string> &prefixes,

@@ -47,7 +47,7 @@ namespace hertzgear
 
   struct EffectsScene
   {
-    std::string mesh_force_law;           // serial-hertz | fe-map
+    std::string mesh_force_law;           // auto | serial-hertz | fe-map
     std::string backlash;                 // on | off
     std::string hertzian_layer;           // dynamic | quasi-static | off
     std::string contact_damping;          // hunt-crossley | lankarani-nikravesh | viscous-only
@@ -148,6 +148,7 @@ namespace hertzgear
     int         max_points_per_branch = 0;
     int         period_doubling_branches = 0;
     double      newton_tolerance = 0; // relative to the state scale
+    double      relative_tolerance = 0; // of the period map's integration
     int         samples_per_period = 0;
   };
 
@@ -188,6 +189,11 @@ namespace hertzgear
   // order, check ranges and cross-field consistency. Throws InputError naming the file, line and
   // key for anything wrong.
   Scene load_scene(const std::filesystem::path &file, const std::vector<std::string> &overrides = {});
+
+  // Whether the stiffness stage runs the FE load ladder for the FE force law: Stiffness/source =
+  // fem with Effects/mesh_force_law = fe-map, or = auto and a Hertzian layer (the law's second
+  // member; docs/dynamics.md, "Which force law a scene gets").
+  bool makes_load_ladder(const Scene &scene);
 
   // The documented default scene in .prm form (what `hertzgear defaults` prints).
   std::string default_scene_prm();

@@ -44,6 +44,7 @@ namespace hertzgear
         {"ste_excitation", "Effects/ste_excitation"},
         {"integrator", "Dynamics/integrator"},
         {"relative_tolerance", "Dynamics/relative_tolerance"},
+        {"shooting_relative_tolerance", "Response/relative_tolerance"},
         {"steps_per_period", "Dynamics/steps_per_period"},
         {"periods", "Dynamics/periods"},
         {"transient_periods", "Dynamics/transient_periods"}};

@@ -61,7 +61,7 @@ namespace hertzgear
     fe.linear_solver_tolerance    = st.linear_solver_tolerance;
     in.torque_map_percent         = st.map_torque_percent;
     // The ladder only when the dynamics will use it (and only the FE analysis makes one).
-    if (scene.effects.mesh_force_law == "fe-map" && st.source == "fem")
+    if (makes_load_ladder(scene))
       in.load_ladder_percent = st.load_ladder_percent;
     for (const double beta : st.map_crowning_um)
       in.crowning_map_mm.push_back(beta * 1e-3);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hertzgear::dynamics
 {
@@ -19,6 +20,8 @@ namespace hertzgear::dynamics
           return "period-doubling";
         case Bifurcation::neimark_sacker:
           return "neimark-sacker";
+        case Bifurcation::corner_turn:
+          return "corner-turn";
       }
     return "?";
   }
@@ -42,6 +45,9 @@ namespace hertzgear::dynamics
       throw ParameterError("corrector_iterations", msg(s.corrector_iterations, " must be at least 2"));
     if (s.max_branches < 1)
       throw ParameterError("max_branches", msg(s.max_branches, " must be at least 1"));
+    if (!(s.fold_multiplier_tolerance > 0.0 && s.fold_multiplier_tolerance < 0.5))
+      throw ParameterError("fold_multiplier_tolerance",
+                           msg(s.fold_multiplier_tolerance, " is outside (0, 0.5)"));
   }
 
   namespace
@@ -92,6 +98,15 @@ namespace hertzgear::dynamics
           p *= mu[i] * mu[j] - 1.0;
       return p.real();
     }
+    // How far the multiplier nearest +1 lies from it.
+    double distance_to_one(const std::vector<std::complex<double>> &mu)
+    {
+      double d = std::numeric_limits<double>::infinity();
+      for (const auto &m : mu)
+        d = std::min(d, std::abs(m - 1.0));
+      return d;
+    }
+
     // A complex pair on the unit circle (not a real pair whose product is 1).
     bool has_complex_pair_near_unit_circle(const std::vector<std::complex<double>> &mu)
     {
@@ -253,9 +268,10 @@ namespace hertzgear::dynamics
       }
 
       // Locates the sign change of one test between s = 0 (z0) and s = h by bisection on the step
-      // length along tau0. Returns false when a corrector fails on the way.
+      // length along tau0, to location_tolerance h. Returns false, with the reason in `error`,
+      // when a corrector fails on the way: the last point corrected is not the bifurcation.
       bool locate(const Vec &z0, const Vec &tau0, const double h, const int k, const Bifurcation which,
-                  const double sign0, Corrected &at, Vec &tau_at, double &s_at)
+                  const double sign0, Corrected &at, Vec &tau_at, double &s_at, std::string &error)
       {
         double lo = 0.0, hi = h;
         bool   have = false;
@@ -264,7 +280,10 @@ namespace hertzgear::dynamics
             const double s = 0.5 * (lo + hi);
             Corrected    c = correct(z0 + s * tau0, tau0, k, cs.corrector_iterations + 4);
             if (!c.ok)
-              return have;
+              {
+                error = c.error;
+                return false;
+              }
             const Vec   t    = tangent(c.ev, tau0);
             const Tests te   = tests_of(c.ev, t);
             const double v   = which == Bifurcation::fold            ? te.fold :
@@ -279,12 +298,23 @@ namespace hertzgear::dynamics
         return have;
       }
 
+      // Whether the corrected point lies within max_correction steps h of its predictor: the
+      // corrector moves across the tangent by about the branch's curvature times h^2 / 2, and a
+      // point much farther is on another branch (a step of 0.013 once landed 0.23 away).
+      static bool near_predictor(const Corrected &c, const Vec &predicted, const double h)
+      {
+        return (c.z - predicted).norm() <= max_correction * h;
+      }
+      static constexpr double max_correction = 3.0;
+      // Steps this short are those of a corner (pass_corner's shortest).
+      double corner_step() const { return 100.0 * cs.step_min; }
+
       // At a corner of the branch the corrector fails for every small step: Newton's iterates
       // alternate between the two sides of the kink of the period map. Steps of 100 ... 10^5
       // times the minimum, with more iterations, start beyond the kink, in the smooth part.
       bool pass_corner(const Vec &z, const Vec &tau, const int k, Corrected &c, Vec &tau1, double &h)
       {
-        for (h = 100 * cs.step_min; h <= std::min(1e5 * cs.step_min, cs.step_max); h *= 10)
+        for (h = corner_step(); h <= std::min(1e5 * cs.step_min, cs.step_max); h *= 10)
           {
             c = correct(z + h * tau, tau, k, 3 * cs.corrector_iterations);
             if (!c.ok)
@@ -322,8 +352,9 @@ namespace hertzgear::dynamics
             if (accept)
               {
                 tau1 = tangent(c.ev, tau);
-                // A turn of more than ~25 degrees in one step may jump to another branch.
-                accept = tau1.dot(tau) > 0.9;
+                // A turn of more than ~25 degrees in one step, or a corrected point farther from
+                // the predictor than the step is long, may have jumped to another branch.
+                accept = tau1.dot(tau) > 0.9 && near_predictor(c, z + h * tau, h);
               }
             if (!accept)
               {
@@ -358,6 +389,7 @@ namespace hertzgear::dynamics
               ContinuationPoint p;
             };
             std::vector<Found> found;
+            bool retry_shorter = false;
             const std::pair<Bifurcation, std::pair<double, double>> checks[] = {
               {Bifurcation::fold, {t0.fold, t1.fold}},
               {Bifurcation::period_doubling, {t0.pd, t1.pd}},
@@ -367,18 +399,76 @@ namespace hertzgear::dynamics
                   (which != Bifurcation::fold ||
                    std::max(std::abs(values.first), std::abs(values.second)) > fold_noise))
                 {
-                  Corrected at;
-                  Vec       tau_at;
-                  double    s_at = 0;
-                  if (!locate(z, tau, h, k, which, sign_of(values.first), at, tau_at, s_at))
-                    continue;
+                  Corrected   at;
+                  Vec         tau_at;
+                  double      s_at = 0;
+                  std::string error;
+                  const auto  between = [&] {
+                    return msg(family.name, " = ", lambda_of(z(n)), " and ", lambda_of(c.z(n)));
+                  };
+                  // A switching that appears or vanishes inside the step: the branch has a corner
+                  // there (the period map's derivative jumps).
+                  const bool corner_inside = branch.points.back().events_per_period != c.ev.events;
+                  const bool located =
+                    locate(z, tau, h, k, which, sign_of(values.first), at, tau_at, s_at, error);
+                  // A step that spans the turning point too coarsely (its corrected points jump
+                  // from one side of a fold to the other, so that the bisection closes on that jump,
+                  // or a corrector fails on the way) is taken again, shorter, down to the steps of
+                  // a corner; only then is what it found classified below.
+                  const bool shorter = h > corner_step();
+                  if (!located && shorter)
+                    {
+                      retry_shorter = true;
+                      break;
+                    }
+                  if (!located && !(which == Bifurcation::fold && corner_inside && at.ok))
+                    {
+                      branch.notes.push_back({which, lambda_of(z(n)), lambda_of(c.z(n)),
+                                              msg("a ", which == Bifurcation::fold ? "turning point" :
+                                                                                    bifurcation_name(which),
+                                                  " between ", between(), " could not be located (",
+                                                  error, "): not reported")});
+                      continue;
+                    }
+                  // (A turning point at a corner, where the corrector fails at the kink itself, is
+                  // reported at the last point corrected beside it.)
                   auto p = make_point(at.z, at.ev, k, branch.id, s + s_at, at.iterations);
                   if (which == Bifurcation::neimark_sacker &&
                       !has_complex_pair_near_unit_circle(p.multipliers))
                     continue; // a real pair with product 1: no torus
                   p.bifurcation = which;
+                  if (which == Bifurcation::fold &&
+                      distance_to_one(p.multipliers) > cs.fold_multiplier_tolerance && shorter)
+                    {
+                      retry_shorter = true;
+                      break;
+                    }
+                  if (which == Bifurcation::fold &&
+                      distance_to_one(p.multipliers) > cs.fold_multiplier_tolerance)
+                    {
+                      // No multiplier at 1: a turning point at a corner when a switching appears
+                      // or vanishes across the step; else the period map is not accurate enough.
+                      if (corner_inside)
+                        p.bifurcation = Bifurcation::corner_turn;
+                      else
+                        {
+                          branch.notes.push_back({which, p.lambda, p.lambda,
+                            msg("the parameter turns back at ", family.name, " = ", p.lambda,
+                                " where no Floquet multiplier is 1 (the nearest lies ",
+                                distance_to_one(p.multipliers), " from it) and the switchings per "
+                                "period do not change: not reported as a fold; the period map is "
+                                "not integrated accurately enough for the Newton tolerance "
+                                "(tighten {shooting_relative_tolerance})")});
+                          continue;
+                        }
+                    }
                   found.push_back({s_at, p});
                 }
+            if (retry_shorter)
+              {
+                h *= 0.5;
+                continue;
+              }
             std::sort(found.begin(), found.end(), [](const Found &a, const Found &b) { return a.s < b.s; });
             for (const auto &f : found)
               push(f.p);

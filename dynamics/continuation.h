@@ -10,10 +10,17 @@
 // the period map of the piecewise-smooth model is continuous but its derivative jumps, and the
 // branch has a corner: when the step collapses there, larger steps with more corrector iterations
 // start beyond the corner. Along the branch:
-//   fold             the parameter component of the tangent changes sign (a multiplier at +1);
+//   fold             the parameter component of the tangent changes sign and a real multiplier
+//                    is +1 (within fold_multiplier_tolerance at the located point);
+//   corner turn      the parameter turns back where the number of switchings per period changes
+//                    (a grazing contact) and no multiplier is 1: a non-smooth turning point;
 //   period doubling  prod_i (mu_i + 1) changes sign (a real multiplier through -1);
 //   Neimark-Sacker   prod_{i<j} (mu_i mu_j - 1) changes sign with a complex pair through |mu| = 1;
-// each located by bisection on the step length, reported as a point of the branch. At a period
+// each located by bisection on the step length, reported as a point of the branch. A turning
+// point that is neither (no multiplier at 1, the same switchings on both sides: the period map is
+// not integrated accurately enough for its Newton tolerance), or one that cannot be located, is
+// not reported: the branch goes on and its notes say where and why. A corrected point farther from its predictor than the step length
+// is refused (the step is halved), so that a step cannot jump to another branch. At a period
 // doubling the period-2k branch is started from x* + eps v (v the eigenvector of the multiplier
 // -1) along v and followed as a branch of its own.
 #include "dynamics/periodic_orbit.h"
@@ -49,6 +56,13 @@ namespace hertzgear::dynamics
     int    max_branches = 4;            // the first branch and the period-doubled ones
     // Bifurcations are located to this fraction of the step length.
     double location_tolerance = 1e-6;
+    // A located turning point is a fold when a real multiplier lies this close to +1. Near a fold
+    // mu - 1 grows like the square root of the parameter's distance to it: at 1e-4 the fold lies
+    // within about 1e-9 of the parameter; at the folds of the paper's tables (integration at
+    // 1e-10, Newton at 1e-6) the nearest multiplier lies up to 9.4e-5 from 1 after the located
+    // point has passed this test (a step that fails it is retaken shorter), while a bisection that
+    // closed on a jump across the fold, not on it, left 1.5e-2 or more (0.979, 0.945, 1.07).
+    double fold_multiplier_tolerance = 1e-4;
   };
 
   // Throws ParameterError naming the field of ContinuationSettings that is out of range.
@@ -59,9 +73,11 @@ namespace hertzgear::dynamics
     none,
     fold,
     period_doubling,
-    neimark_sacker
+    neimark_sacker,
+    corner_turn // a turning point at a non-smooth point of the branch (no multiplier at 1)
   };
-  std::string bifurcation_name(Bifurcation b); // "", fold, period-doubling, neimark-sacker
+  // "", fold, period-doubling, neimark-sacker, corner-turn
+  std::string bifurcation_name(Bifurcation b);
 
   struct ContinuationPoint
   {
@@ -88,6 +104,16 @@ namespace hertzgear::dynamics
     std::string                    end_reason;           // why the continuation stopped
     bool                           ended_in_failure = false; // step collapsed below step_min
     int                            corners = 0; // non-smooth points passed (grazing contacts)
+    // Turning points or bifurcations the branch passed without reporting them, each with where
+    // (the parameter range of its step) and why (not located: a corrector failed at it; no
+    // multiplier at 1 without a corner).
+    struct Note
+    {
+      Bifurcation kind = Bifurcation::fold; // fold: a turning point
+      double      lambda_from = 0.0, lambda_to = 0.0;
+      std::string text;
+    };
+    std::vector<Note>              notes;
   };
 
   struct ContinuationResult

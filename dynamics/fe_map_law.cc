@@ -246,7 +246,7 @@ namespace hertzgear::dynamics
       {
         const std::size_t J = Y.size();
         const double      X = std::log(a);
-        const auto        F_at = [&](const double Xq) { return force(ph, std::exp(Xq)).F; };
+        const auto        F_at = [&](const double Xq) { return force(ph, std::exp(Xq), false).F; };
         // Below the lowest rung F = c a^p: int = F a / (p + 1).
         const double X0 = x(ph, 0);
         if (X <= X0)
@@ -472,7 +472,7 @@ namespace hertzgear::dynamics
     {
     public:
       GridPhase(const std::vector<double> &grid, const unsigned n_nodes, const unsigned per_node,
-                const double theta, const double w)
+                const double theta, const double w, const bool rates)
       {
         double u = theta * (double(n_nodes) / (2.0 * M_PI));
         // floor(u) by truncation (std::floor is a library call without SSE4.1); u >= -1 here.
@@ -490,6 +490,8 @@ namespace hertzgear::dynamics
         b[3]            = 10.0 * t3 - 15.0 * t4 + 6.0 * t5;
         b[4]            = -4.0 * t3 + 7.0 * t4 - 3.0 * t5;
         b[5]            = 0.5 * (t3 - 2.0 * t4 + t5);
+        if (!rates)
+          return; // rate() is not called
         // d/dt of the same, times d t/d time = w N / 2 pi.
         const double r = w * (double(n_nodes) / (2.0 * M_PI));
         db[0]          = r * (-30.0 * t2 + 60.0 * t3 - 30.0 * t4);
@@ -520,7 +522,7 @@ namespace hertzgear::dynamics
     private:
       const double *n0 = nullptr, *n1 = nullptr;
       double        t = 0.0;
-      double        b[6], db[6];
+      double        b[6], db[6] = {};
     };
 
     inline double estimate(const GridPhase &ph, const unsigned c) { return ph.estimate(c); }
@@ -594,7 +596,7 @@ namespace hertzgear::dynamics
       void forces(const MeshPhase &phase, const double u, const double d, MeshLawForces &out,
                   const bool rates) const override
       {
-        const GridPhase g = at(phase);
+        const GridPhase g = at(phase, rates);
         const auto member = [&](const LadderMember &m, const double a, const double p, double &F,
                                 double &dF_da, double &dF_dt) {
           if (a == 0.0)
@@ -602,7 +604,7 @@ namespace hertzgear::dynamics
               // F = c_0 a^p near zero: slope c_0 for p = 1, else 0.
               F     = 0.0;
               dF_dt = 0.0;
-              dF_da = p == 1.0 ? m.force(g, 1.0e-30).dF_da : 0.0;
+              dF_da = p == 1.0 ? m.force(g, 1.0e-30, false).dF_da : 0.0;
               return;
             }
           const MemberForce f = m.force(g, std::abs(a), rates);
@@ -623,11 +625,11 @@ namespace hertzgear::dynamics
         const double a = std::abs(f);
         if (a == 0.0)
           return 0.0;
-        const GridPhase g = at(phase);
+        const GridPhase g = at(phase, false);
         double          lo = 0.0, hi = a, d = 0.5 * a;
         for (int it = 0; it < 200; ++it)
           {
-            const MemberForce r = structural.force(g, a - d), h = hertz.force(g, d);
+            const MemberForce r = structural.force(g, a - d, false), h = hertz.force(g, d, false);
             const double      phi = r.F - h.F;
             (phi > 0.0 ? lo : hi) = d;
             const double dphi = -r.dF_da - h.dF_da;
@@ -645,7 +647,7 @@ namespace hertzgear::dynamics
       MeshLawEnergy elastic_energy(const MeshPhase &phase, const double u,
                                    const double d) const override
       {
-        const GridPhase g = at(phase);
+        const GridPhase g = at(phase, false);
         return {u == 0.0 ? 0.0 : structural.energy(g, std::abs(u)),
                 d == 0.0 ? 0.0 : hertz.energy(g, std::abs(d))};
       }
@@ -679,9 +681,9 @@ namespace hertzgear::dynamics
         structural.phase_coefficients(c1, s1, taylor);
         hertz.phase_coefficients(c1, s1, taylor);
       }
-      GridPhase at(const MeshPhase &phase) const
+      GridPhase at(const MeshPhase &phase, const bool rates) const
       {
-        return GridPhase(grid, n_nodes, n_coefficients(), phase.value(0), phase.w);
+        return GridPhase(grid, n_nodes, n_coefficients(), phase.value(0), phase.w, rates);
       }
 
       // The table over the cycle: N = 2^k nodes, from 64 up, doubled until the
@@ -717,7 +719,7 @@ namespace hertzgear::dynamics
               {
                 const double theta = (i + 0.5) * h;
                 exact_coefficients(std::cos(theta), std::sin(theta), exact.data());
-                const GridPhase g(grid, n_nodes, per, theta, 1.0);
+                const GridPhase g(grid, n_nodes, per, theta, 1.0, true);
                 for (unsigned c = 0; 3 * c < per; ++c)
                   {
                     value_error = std::max(value_error, std::abs(g.value(c) - exact[3 * c]));

@@ -93,6 +93,11 @@ namespace hertzgear::dynamics
     return from_name(name, mesh_force_law_names, "mesh_force_law");
   }
 
+  std::string mesh_force_law_name(const MeshForceLawKind kind)
+  {
+    return name_of(kind, mesh_force_law_names);
+  }
+
   std::shared_ptr<const MeshForceLaw> make_mesh_force_law(const GearPairParameters &p)
   {
     auto table = p.stiffness;

@@ -55,6 +55,7 @@ namespace hertzgear::dynamics
   HertzianLayer  hertzian_layer_from_name(const std::string &name);
   ContactDamping contact_damping_from_name(const std::string &name);
   MeshForceLawKind mesh_force_law_from_name(const std::string &name);
+  std::string      mesh_force_law_name(MeshForceLawKind kind);
 
   struct GearPairParameters
   {

@@ -117,15 +117,40 @@ namespace hertzgear::dynamics
     double gs2 = 0.0;
     for (unsigned i = 0; i < n; ++i)
       gs2 += grad[i] * grad[i] * scale[i] * scale[i];
-    std::vector<double> g(base.n_roots());
+    const unsigned      nr = base.n_roots();
+    std::vector<double> g(nr), v(n), y0(y, y + n), g0(nr), gv(nr);
     base.roots(t, y, g.data());
-    const double eps = 1e-7 * std::sqrt(gs2);
-    std::vector<double> ya(y, y + n), yb(y, y + n), fa(n), fb(n);
     for (unsigned i = 0; i < n; ++i)
       {
-        const double v = scale[i] * scale[i] * grad[i] / gs2;
-        ya[i] += (side * eps - g[r]) * v;
-        yb[i] += (side * 2 * eps - g[r]) * v;
+        v[i] = scale[i] * scale[i] * grad[i] / gs2;
+        y0[i] -= g[r] * v[i]; // on the surface
+      }
+    // The two points must lie on this side of surface r and on no other surface's far side: where
+    // another switching lies within the offset (two switchings a picosecond apart, as where a
+    // contact closes and its layer's own root changes sign at once), the offset shrinks to a
+    // quarter of the distance to it along v, so that f is that of the zone between them.
+    double eps = 1e-7 * std::sqrt(gs2);
+    base.roots(t, y0.data(), g0.data());
+    {
+      std::vector<double> yv(y0);
+      for (unsigned i = 0; i < n; ++i)
+        yv[i] += side * eps * v[i];
+      base.roots(t, yv.data(), gv.data());
+    }
+    for (unsigned k = 0; k < nr; ++k)
+      {
+        const double slope = (gv[k] - g0[k]) / eps; // dg_k along side * v (linear in a zone)
+        if (k == r || slope == 0.0 || (g0[k] != 0.0 && g0[k] * slope > 0.0))
+          continue; // moving away from surface k (or along it)
+        if (g0[k] != 0.0)
+          eps = std::min(eps, 0.25 * std::abs(g0[k] / slope));
+      }
+    eps = std::max(eps, 1e-13 * std::sqrt(gs2));
+    std::vector<double> ya(y0), yb(y0), fa(n), fb(n);
+    for (unsigned i = 0; i < n; ++i)
+      {
+        ya[i] += side * eps * v[i];
+        yb[i] += side * 2 * eps * v[i];
       }
     base.rhs(t, ya.data(), fa.data());
     base.rhs(t, yb.data(), fb.data());

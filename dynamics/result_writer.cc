@@ -240,7 +240,19 @@ namespace hertzgear::dynamics
                                  {"points", b.points.size()},
                                  {"stable_points", stable},
                                  {"end_reason", b.end_reason},
-                                 {"ended_in_failure", b.ended_in_failure}});
+                                 {"ended_in_failure", b.ended_in_failure},
+                                 {"corners_passed", b.corners},
+                                 {"notes", [&] {
+                                    auto notes = nlohmann::json::array();
+                                    for (const auto &note : b.notes)
+                                      notes.push_back({{"type", note.kind == Bifurcation::fold ?
+                                                                  std::string("turning point") :
+                                                                  bifurcation_name(note.kind)},
+                                                       {column + "_from", note.lambda_from},
+                                                       {column + "_to", note.lambda_to},
+                                                       {"text", note.text}});
+                                    return notes;
+                                  }()}});
         for (const auto &p : b.points)
           if (p.bifurcation != Bifurcation::none)
             j["bifurcations"].push_back({{"type", bifurcation_name(p.bifurcation)},

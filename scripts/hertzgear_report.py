@@ -63,6 +63,10 @@ def main(argv=None):
         description="Figures and an HTML page from the artifacts of a hertzgear run.")
     parser.add_argument("run_dir", help="run directory holding CSV/JSON artifacts")
     parser.add_argument("--out", help="report folder (default: RUN_DIR/report)")
+    parser.add_argument("--compare", action="append", default=[], metavar="OTHER_RUN_DIR",
+                        help="another run's folder whose periodic orbits (response.csv) are drawn "
+                             "on the response figure beside this run's, e.g. the other mesh force "
+                             "law (repeatable)")
     args = parser.parse_args(argv)
     run_dir = args.run_dir
     if not os.path.isdir(run_dir):
@@ -80,6 +84,21 @@ def main(argv=None):
                ", ".join(f + "/" for f in artifacts.STAGE_FOLDERS if f)))
         return artifacts.EXIT_BAD_INPUT
     art.check()  # every artifact parsed before the first write
+    art.compared = []
+    for other in args.compare:
+        if not os.path.isdir(other):
+            raise artifacts.BadInput("--compare %s: the run directory does not exist or is not a "
+                                     "directory" % other)
+        c = artifacts.Artifacts(other, out_dir)
+        if not c.has("response.csv") or not art.has("response.csv"):
+            raise artifacts.BadInput(
+                "--compare %s: the response figure compares periodic orbits, and %s holds no "
+                "response.csv (run `hertzgear response` into it)"
+                % (other, other if not c.has("response.csv") else run_dir))
+        c.check()
+        if c.get("response.csv") is None:
+            raise artifacts.BadInput("--compare %s: its response.csv holds no orbits" % other)
+        art.compared.append(c)
     for warning in art.warnings:
         sys.stderr.write("hertzgear report: warning: %s\n" % warning)
     figure_files = write_report_folder(art, out_dir)

@@ -1070,7 +1070,8 @@ def sweep_rms(sec, scene, sw):
 # --------------------------------------------------------------------------------------------
 
 BIFURCATION_MARKERS = {"fold": ("s", "fold"), "period-doubling": ("D", "period doubling"),
-                       "neimark-sacker": ("o", "Neimark–Sacker")}
+                       "neimark-sacker": ("o", "Neimark–Sacker"),
+                       "corner-turn": ("^", "corner turn (non-smooth)")}
 
 
 def branch_runs(stable):
@@ -1084,59 +1085,87 @@ def branch_runs(stable):
     return runs
 
 
-def response_curves(sec, scene, resp, sw=None):
-    """The frequency (or torque, or damping) response of the periodic orbits: RMS DTE per branch,
-    stable solid and unstable dashed, bifurcations marked; below, the largest Floquet
-    multiplier modulus. Time-marched sweep points, when there are any, on top as dots."""
+def response_curves(sec, scene, resp, sw=None, label_of_run=None, compared=()):
+    """The frequency (or torque, or damping) response of the periodic orbits as engineers read
+    it: the dynamic factor F_max/F_0 and the fluctuation of the DTE (peak-to-peak over the
+    orbit) per branch, stable solid and unstable dashed, bifurcations marked; below, the largest
+    Floquet multiplier modulus. `compared` holds (label, table) of other runs' response.csv
+    (`hertzgear report --compare`, e.g. the other mesh force law), drawn on the same axes, one
+    colour per run. Time-marched sweep points, when there are any, as dots."""
+    runs = [(label_of_run, resp)] + list(compared)
     x_col = resp.names[0]
-    rms, branch, stable = resp.find("rms_dte"), resp.find("branch"), resp.find("stable")
-    mu, bif, period = resp.find("max_multiplier"), resp.find("bifurcation"), resp.find("period")
-    if not (rms and branch and stable and mu):
-        sec.note("response.csv lacks rms_dte, branch, stable or max_multiplier columns.")
-        return
-    fig, axes = plt.subplots(2, 1, figsize=(10, 6.8), sharex=True,
-                             gridspec_kw={"height_ratios": [2.2, 1]})
-    x = resp[x_col]
+    for name, table in runs:
+        needed = ("dynamic_factor", "min_dte", "max_dte", "branch", "stable", "max_multiplier")
+        missing = [c for c in needed if not table.find(c)]
+        if missing or table.names[0] != x_col:
+            sec.note("response.csv%s lacks the columns %s or is over another parameter (%s)."
+                     % (" of " + name if name else "", ", ".join(missing) or "-",
+                        table.names[0]))
+            return
+    fig, axes = plt.subplots(3, 1, figsize=(10, 8.6), sharex=True,
+                             gridspec_kw={"height_ratios": [2.0, 1.5, 1]})
     labelled = set()
-    for i, b in enumerate(unique_in_order(resp[branch])):
-        m = np.where(resp[branch] == b)[0]
-        color = COLORS[i % len(COLORS)]
-        k = int(resp[period][m[0]]) if period else 1
-        name = "branch %d (period %d)" % (int(b), k)
-        for a, e, st in branch_runs(resp[stable][m] > 0.5):
-            idx = m[a:e + 1]
-            text = name + (", stable" if st else ", unstable")
-            axes[0].plot(x[idx], resp[rms][idx], "-" if st else "--", color=color, lw=1.6 if st else 1.1,
-                         label=None if text in labelled else text)
-            labelled.add(text)
-            axes[1].plot(x[idx], resp[mu][idx], "-" if st else "--", color=color, lw=1.2)
-    if bif and resp[bif].dtype == object:
-        for kind, (marker, text) in BIFURCATION_MARKERS.items():
-            m = resp[bif] == kind
-            if m.any():
-                axes[0].plot(x[m], resp[rms][m], marker, ms=7, mfc="none", mec="k", mew=1.3,
-                             ls="none", label=text)
-                axes[1].plot(x[m], resp[mu][m], marker, ms=6, mfc="none", mec="k", mew=1.1,
-                             ls="none")
-    if sw is not None:
-        sp, srms = sw.find("speed_rpm", "speed"), sw.find("rms_dte", "rms")
-        if sp and srms and x_col.startswith("speed"):
-            axes[0].plot(sw[sp], sw[srms], ".", color="#777777", ms=4,
+    many = len(runs) > 1
+    for r, (name, t) in enumerate(runs):
+        x = t[x_col]
+        df, mu = t[t.find("dynamic_factor")], t[t.find("max_multiplier")]
+        fluct = t[t.find("max_dte")] - t[t.find("min_dte")]
+        branch, stable = t[t.find("branch")], t[t.find("stable")]
+        bif, period = t.find("bifurcation"), t.find("period")
+        for i, b in enumerate(unique_in_order(branch)):
+            m = np.where(branch == b)[0]
+            color = COLORS[(r if many else i) % len(COLORS)]
+            k = int(t[period][m[0]]) if period else 1
+            base = name if many else "branch %d (period %d)" % (int(b), k)
+            for a, e, st in branch_runs(stable[m] > 0.5):
+                idx = m[a:e + 1]
+                text = base + (", stable" if st else ", unstable")
+                style = dict(ls="-" if st else "--", color=color, lw=1.6 if st else 1.1)
+                axes[0].plot(x[idx], df[idx], label=None if text in labelled else text, **style)
+                labelled.add(text)
+                axes[1].plot(x[idx], fluct[idx], **style)
+                axes[2].plot(x[idx], mu[idx], ls=style["ls"], color=color, lw=1.2)
+        if bif and t[bif].dtype == object:
+            for kind, (marker, text) in BIFURCATION_MARKERS.items():
+                m = t[bif] == kind
+                if m.any():
+                    for ax, y in ((axes[0], df), (axes[1], fluct), (axes[2], mu)):
+                        ax.plot(x[m], y[m], marker, ms=7 if ax is axes[0] else 6, mfc="none",
+                                mec="k", mew=1.2, ls="none",
+                                label=text if ax is axes[0] and text not in labelled else None)
+                    labelled.add(text)
+    if sw is not None and x_col.startswith("speed"):
+        sp, sdf = sw.find("speed_rpm", "speed"), sw.find("dynamic_factor")
+        lo, hi = sw.find("min_dte"), sw.find("max_dte")
+        if sp and sdf:
+            axes[0].plot(sw[sp], sw[sdf], ".", color="#777777", ms=4,
                          label="time marching (sweep.csv)")
-    axes[1].axhline(1.0, color="k", lw=0.8, ls=":")
-    axes[0].set_ylabel(label("RMS DTE", rms))
-    title_and_legend(axes[0], "Periodic orbits: RMS of the DTE", ncol=3)
-    axes[1].set_ylabel("largest |μ| (–)")
-    axes[1].set_xlabel(label(x_col.replace("_", " ").split(" ")[0], x_col))
-    axes[1].set_title("Largest Floquet multiplier modulus (stable below 1)", loc="left")
-    publish(sec, "response_rms.png", fig,
+        if sp and lo and hi:
+            axes[1].plot(sw[sp], sw[hi] - sw[lo], ".", color="#777777", ms=4)
+    axes[0].axhline(1.0, color="k", lw=0.6, ls=":")
+    axes[2].axhline(1.0, color="k", lw=0.8, ls=":")
+    axes[0].set_ylabel("dynamic factor F$_{max}$/F$_0$ (–)")
+    title_and_legend(axes[0], "Periodic orbits: dynamic factor", ncol=2 if many else 3)
+    axes[1].set_ylabel("DTE peak-to-peak (µm)")
+    axes[1].set_title("Fluctuation of the DTE over the orbit (max − min)", loc="left")
+    axes[2].set_ylabel("largest |μ| (–)")
+    axes[2].set_xlabel(label(x_col.replace("_", " ").split(" ")[0], x_col))
+    axes[2].set_title("Largest Floquet multiplier modulus (stable below 1)", loc="left")
+    runs_text = (" Curves of %d runs, one colour each: %s." % (len(runs), ", ".join(
+        "%s (%s)" % (n, "this run" if i == 0 else "compared") for i, (n, _) in enumerate(runs)))
+        if many else "")
+    publish(sec, "response.png", fig,
             "Periodic orbits found by shooting and followed by pseudo-arclength continuation "
-            "(response.csv): RMS of the DTE per branch, solid where the orbit is stable (every "
-            "Floquet multiplier inside the unit circle), dashed where it is unstable; squares "
-            "mark folds (a multiplier through +1: the jumps of a sweep), diamonds period "
-            "doublings (−1), circles Neimark–Sacker points (a complex pair). Below: the largest "
-            "multiplier modulus. Grey dots, when present, are the time-marched sweep points "
-            "(sweep.csv), which only ever land on stable branches.")
+            "(response.csv): the dynamic factor (largest mesh force over the static load) and "
+            "the peak-to-peak fluctuation of the DTE over the orbit, solid where the orbit is "
+            "stable (every Floquet multiplier inside the unit circle), dashed where it is "
+            "unstable; squares mark folds (a multiplier through +1: the jumps of a sweep), "
+            "diamonds period doublings (−1), circles Neimark–Sacker points (a complex pair), "
+            "triangles corner turns (the branch turns back at a grazing contact, where the "
+            "period map has a kink and no multiplier is 1). "
+            "Below: the largest multiplier modulus. Grey dots, when present, are the "
+            "time-marched sweep points (sweep.csv), which only ever land on stable branches."
+            + runs_text)
 
 
 def bifurcation(sec, scene, bif):

@@ -125,8 +125,14 @@ class Report:
         if resp is None:
             return
         sec = self.page.section("response", "Periodic orbits and their stability")
+        compared = getattr(self.art, "compared", [])
+        labels = [run_label(self.art)] + [run_label(c) for c in compared]
+        if len(set(labels)) < len(labels):  # the same model: tell the runs by their folders
+            labels = [os.path.basename(os.path.normpath(a.run_dir))
+                      for a in [self.art] + list(compared)]
         self.attempt(sec, "response figure", figures.response_curves, self.scene, resp,
-                     self.art.get("sweep.csv"))
+                     self.art.get("sweep.csv"), labels[0],
+                     [(lab, c.get("response.csv")) for lab, c in zip(labels[1:], compared)])
         js = self.art.get("response.json")
         if isinstance(js, dict):
             sec.add(response_tables(js))
@@ -166,6 +172,14 @@ class Report:
         write_text_atomically(index, render_page(self.page, self.art, self.scene,
                                                  matplotlib.__version__))
         return index
+
+
+def run_label(art):
+    """The mesh force law of a run's response (response.json), or its folder's name."""
+    js = art.get("response.json")
+    if isinstance(js, dict) and js.get("mesh_force_law"):
+        return str(js["mesh_force_law"])
+    return os.path.basename(os.path.normpath(art.run_dir))
 
 
 def write_report(art, out_dir):

@@ -133,7 +133,7 @@ TEST(CommandStart, TwoOverlappingRunsOfOneCommandCannotBothWrite)
      "summary.json"},
     {"response", "response " + fourier_scene + " --set Response/parameter=speed_rpm"
                  " --set Sweep/speed_min_rpm=1000 --set Sweep/speed_max_rpm=20000"
-                 " --set Dynamics/relative_tolerance=1e-11 --set Response/newton_tolerance=1e-9"
+                 " --set Response/relative_tolerance=1e-11 --set Response/newton_tolerance=1e-9"
                  " --set Response/step_max=0.002 --set Response/max_points_per_branch=20000",
      "response.json"}};
   for (const auto &c : long_runs)
@@ -208,7 +208,7 @@ TEST(CommandStart, ACommandRefusedAfterItsStartLeavesNoFolder)
   const fs::path base = fresh_temp_dir("start_leftover");
   const fs::path out  = base / "a" / "b";
   auto r = run_hertzgear("response " + fourier_scene +
-                         " --set Dynamics/relative_tolerance=1e-4 --set Response/newton_tolerance=1e-3"
+                         " --set Response/relative_tolerance=1e-4 --set Response/newton_tolerance=1e-3"
                          " --set Dynamics/initial_state=given --set Dynamics/initial_dte_um=5000"
                          " --set Dynamics/periods=2 --set Dynamics/transient_periods=1"
                          " --set Sweep/speed_min_rpm=15000 --set Sweep/speed_max_rpm=16000 --out " +

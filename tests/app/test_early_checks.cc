@@ -159,10 +159,10 @@ TEST(EarlyChecks, ResponseValuesOfAShootingSweepAreCheckedBeforeAnyFolder)
   for (const std::string &scene : {fourier_scene, analytic_scene})
     {
       expect_refused_by_check_and_run(scene + shooting +
-                                        " --set Dynamics/relative_tolerance=1e-8"
+                                        " --set Response/relative_tolerance=1e-8"
                                         " --set Response/newton_tolerance=1e-8",
                                       "Response/newton_tolerance = 1e-08",
-                                      "must be at least 10 Dynamics/relative_tolerance");
+                                      "must be at least 10 Response/relative_tolerance");
       expect_refused_by_check_and_run(scene + shooting + " --set Dynamics/integrator=rk4",
                                       "Dynamics/integrator = rk4", "cannot serve the shooting method");
     }

@@ -1,5 +1,6 @@
 // Requirements on scene files: the paper's scenes carry Tables 1 and 2; overrides apply in order;
 // the printed defaults parse back to the same values; bad input names file, line and key.
+#include "app/dynamics_setup.h"
 #include "app/scene.h"
 #include "common/errors.h"
 
@@ -93,6 +94,37 @@ TEST(Scene, OverridesApplyInOrderAndChangeTheHash)
   EXPECT_DOUBLE_EQ(s.gear.crowning_um, 80.0);
   EXPECT_NE(s.hash, base.hash);
   EXPECT_THAT(s.used_parameters_prm, HasSubstr("2000"));
+}
+
+// Requirement: a scene whose stiffness comes from the FE uses the FE force law by default
+// (Effects/mesh_force_law = auto): the stiffness stage then makes the load ladder, and the dynamics
+// on a table that holds one take fe-map; without the Hertzian layer (the law's second member),
+// on Fourier coefficients, or where the paper's scenes ask for the paper's law, serial-hertz.
+TEST(Scene, ForceLawAutoIsTheFeLawWhereTheStiffnessComesFromTheFe)
+{
+  using dynamics::MeshForceLawKind;
+  EXPECT_EQ(load_scene("").effects.mesh_force_law, "auto");
+  EXPECT_TRUE(makes_load_ladder(load_scene("")));
+  EXPECT_FALSE(makes_load_ladder(load_scene(scene_path("paper_crowned.prm"))));
+  const std::string as_auto = "Effects/mesh_force_law=auto";
+  EXPECT_TRUE(makes_load_ladder(load_scene(scene_path("paper_crowned.prm"), {as_auto})));
+  EXPECT_FALSE(makes_load_ladder(
+    load_scene(scene_path("paper_crowned.prm"), {as_auto, "Effects/hertzian_layer=off"})));
+  EXPECT_TRUE(makes_load_ladder(
+    load_scene(scene_path("paper_crowned.prm"), {"Effects/mesh_force_law=fe-map"})));
+
+  const auto law_of = [](const std::string &scene, std::vector<std::string> overrides) {
+    return make_dynamics_setup(load_scene(scene_path(scene), overrides)).parameters.effects
+      .mesh_force_law;
+  };
+  // The shipped tables hold their load ladder.
+  EXPECT_EQ(law_of("paper_crowned_table.prm", {}), MeshForceLawKind::serial_hertz);
+  EXPECT_EQ(law_of("paper_crowned_table.prm", {as_auto}), MeshForceLawKind::fe_map);
+  EXPECT_EQ(law_of("paper_crowned_table.prm", {as_auto, "Effects/hertzian_layer=quasi-static"}),
+            MeshForceLawKind::fe_map);
+  EXPECT_EQ(law_of("paper_crowned_table.prm", {as_auto, "Effects/hertzian_layer=off"}),
+            MeshForceLawKind::serial_hertz);
+  EXPECT_EQ(law_of("paper_crowned_fourier.prm", {as_auto}), MeshForceLawKind::serial_hertz);
 }
 
 TEST(Scene, PrintedDefaultsParseBackToTheSameValues)

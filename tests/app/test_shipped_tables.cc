@@ -9,8 +9,9 @@
 // them by 1e-4 or more. Fourier coefficients are compared as complex numbers
 // (a cos(phi), a sin(phi)), so that the phase of a negligible harmonic does not count.
 //
-// Label `long`: the two FE runs take 2–3 minutes on 2 cores.
+// Label `long`: the FE runs take minutes on 2 cores.
 #include "tests/support/run_command.h"
+#include "tests/support/stiffness_checks.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -104,4 +105,17 @@ TEST(ShippedTables, CrownedMatchesTheCode)
   // The shipped crowned table is the scene's own level (Q1, level 1, 32 face layers, d = 1.08
   // mm): about 3.5 minutes and 14 GB.
   regenerate_and_compare("paper_crowned", "--set Effects/mesh_force_law=fe-map");
+}
+
+// Requirement: on the crowned pair at the shipped level the FE force law's static equilibrium is
+// the FE's at every rung and position to round-off (expect_static_consistency (1)). Between the
+// rungs the errors against the FE's own cycle and tangent are measured and printed for
+// docs/validation-force-law.md, not required: the 0.5 % / 1 % that the uncrowned pair meets
+// (StiffnessCli.TheFeLawBetweenItsRungsIsTheFeAtThatLoad) this pair does not, because the FE's
+// Hertzian part of the approach is itself not smooth in the load where the contact band moves
+// across the contact grid (its log-log slope 0.85, 1.10, 0.43 between 458, 916, 1296 and 1714 N
+// at the first position). Two FE runs at the shipped level, about 8 minutes.
+TEST(ShippedTables, CrownedFeLawIsTheFeAtItsRungs)
+{
+  expect_static_consistency("paper_crowned.prm", "", false);
 }

@@ -1,8 +1,10 @@
 // Requirements on `hertzgear stiffness`: the stiffness.csv / stiffness.json contract, a table the
 // dynamics stage reads back, and clear errors (exit 2) for loads and settings it cannot analyse.
+#include "dynamics/mesh_force_law.h"
 #include "table/stiffness_table.h"
 
 #include "tests/support/run_command.h"
+#include "tests/support/stiffness_checks.h"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
@@ -132,41 +134,6 @@ TEST(StiffnessCli, LoadsAndSettingsItCannotAnalyseExitTwo)
     }
 }
 
-namespace
-{
-  // The rows of a stiffness CSV as text (header dropped), optionally of one map case, without
-  // the map's leading case columns.
-  std::vector<std::string> csv_rows(const fs::path &file, const int map_case = -1)
-  {
-    std::istringstream       in(slurp(file));
-    std::vector<std::string> rows;
-    std::string              line;
-    std::getline(in, line);
-    while (std::getline(in, line))
-      {
-        if (map_case < 0)
-          {
-            rows.push_back(line);
-            continue;
-          }
-        std::size_t at = 0;
-        for (int k = 0; k < 7; ++k) // case, torque, percent, load, two crownings, misalignment
-          at = line.find(',', at) + 1;
-        if (std::stoi(line.substr(0, line.find(','))) == map_case)
-          rows.push_back(line.substr(at));
-      }
-    return rows;
-  }
-
-  double column(const std::string &row, const int index)
-  {
-    std::stringstream ss(row);
-    std::string       cell;
-    for (int k = 0; k <= index; ++k)
-      std::getline(ss, cell, ',');
-    return std::stod(cell);
-  }
-} // namespace
 
 TEST(StiffnessCli, AMapRowEqualsTheSingleTorqueRunAndItsStructuralApproachIsLinear)
 {
@@ -601,6 +568,18 @@ TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnADistributedSector)
   const fs::path mpi = serial_and_two_ranks(" --set Mesh/body_model=sector --set Mesh/teeth_per_sector=5", 1e-8);
   // Distributed fields: one piece per rank under each .pvtu record.
   EXPECT_TRUE(fs::exists(mpi / "fields" / "pinion_0000.1.vtu"));
+}
+
+
+// Requirement: the FE force law's static equilibrium is the FE's at and between the rungs of the
+// default ladder (expect_static_consistency, tests/support/stiffness_checks.h), on the uncrowned
+// pair at the coarse FE level (2D, level 0, linear elements, 5 positions, as the other cycle
+// tests). The crowned pair does not meet these bounds, at its coarse 3D level (4.6 % between
+// rungs) nor at the shipped level (4.2 %; ShippedTables.CrownedFeLawIsTheFeAtItsRungs): the FE's
+// own Hertzian part is not smooth in the load where the contact band moves across the grid.
+TEST(StiffnessCli, TheFeLawBetweenItsRungsIsTheFeAtThatLoad)
+{
+  expect_static_consistency("paper_uncrowned.prm", coarse);
 }
 
 TEST(StiffnessCli, TheLoadLadderIsTheCycleAtEachLoadAndDrivesTheFeForceLaw)

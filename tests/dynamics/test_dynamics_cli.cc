@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -165,6 +168,55 @@ TEST(DynamicsCli, ResponseFollowsTheOrbitsThroughTheirFolds)
   fs::remove_all(out);
 }
 
+// Requirement: continuation from either end of the range finds the same folds, to 1e-8
+// relative, on both force laws (the crowned pair's FE table with its load ladder, 10000-18000 rpm:
+// the serial law's folds at 15143.57 and 16022.68 rpm, the FE law's at 13333.81 and 15802.68),
+// and each is a fold: a Floquet multiplier within 1e-4 of 1 at it (the continuation's own test). The folds are located to 1e-6
+// of a step and the period map is integrated at Response/relative_tolerance 1e-10; measured
+// from the two ends: 3.2e-12 and 2.9e-13 (serial), 5.5e-9 and 1.2e-10 (FE law: its low fold, on
+// the contact-losing branch where two switchings come close together, is the least sharp).
+TEST(DynamicsCli, ResponseFindsTheSameFoldsFromEitherEnd)
+{
+  const std::string table = std::string(HERTZGEAR_SOURCE_DIR) + "/data/scenes/paper_crowned_table.prm";
+  for (const std::string law : {"serial-hertz", "fe-map"})
+    {
+      std::vector<std::vector<double>> folds;
+      for (const std::string start : {"low", "high"})
+        {
+          const fs::path out = fresh_dir("response_" + law + "_" + start);
+          const auto     r   = run_hertzgear("response '" + table + "' --set Effects/mesh_force_law=" + law +
+                                       " --set Response/start=" + start +
+                                       " --set Sweep/speed_min_rpm=10000 --set Sweep/speed_max_rpm=18000"
+                                       " --out '" + out.string() + "'");
+          ASSERT_EQ(r.exit_code, 0) << r.err;
+          const auto j = nlohmann::json::parse(slurp(out / "response.json"));
+          ASSERT_EQ(j["branches"].size(), 1u);
+          EXPECT_FALSE(j["branches"][0]["ended_in_failure"].get<bool>())
+            << j["branches"][0]["end_reason"];
+          std::vector<double> f;
+          for (const auto &b : j["bifurcations"])
+            {
+              ASSERT_EQ(b["type"], "fold") << b.dump();
+              f.push_back(b["speed_rpm"].get<double>());
+              // The multiplier nearest 1 (the first of the list, as re+imi).
+              const std::string mu = b["multipliers"].get<std::string>();
+              EXPECT_NEAR(std::stod(mu.substr(0, mu.find_first_of("+-", 1))), 1.0, 1e-4) << b.dump();
+            }
+          std::sort(f.begin(), f.end());
+          ASSERT_EQ(f.size(), 2u) << law << " from " << start << ": " << j["bifurcations"].dump();
+          folds.push_back(f);
+          fs::remove_all(out);
+        }
+      for (std::size_t i = 0; i < 2; ++i)
+        {
+          std::printf("%s fold %zu: %.10f (from low), %.10f (from high), relative %.2e\n",
+                      law.c_str(), i, folds[0][i], folds[1][i],
+                      std::abs(folds[0][i] - folds[1][i]) / folds[0][i]);
+          EXPECT_NEAR(folds[0][i], folds[1][i], 1e-8 * folds[0][i]) << law;
+        }
+    }
+}
+
 // Requirement: the shooting method's bad input and failures: rk4 (no event location) and a
 // Newton tolerance below the integration's accuracy are input errors naming the key (exit 2);
 // Newton that does not converge at the start is a numerical error (exit 3). No folder is left.
@@ -177,7 +229,7 @@ TEST(DynamicsCli, ResponseRefusesWhatShootingCannotServe)
   r = run_hertzgear("response '" + scene + "' --set Response/newton_tolerance=1e-10 --out '" + out.string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("Response/newton_tolerance"), std::string::npos) << r.err;
-  r = run_hertzgear("response '" + scene + "' --set Dynamics/relative_tolerance=1e-4 " +
+  r = run_hertzgear("response '" + scene + "' --set Response/relative_tolerance=1e-4 " +
                     "--set Response/newton_tolerance=1e-3 --set Dynamics/initial_state=given " +
                     "--set Dynamics/initial_dte_um=5000 --set Dynamics/periods=2 --set Dynamics/transient_periods=1 " +
                     "--set Sweep/speed_min_rpm=15000 --set Sweep/speed_max_rpm=16000 --out '" + out.string() + "'");
