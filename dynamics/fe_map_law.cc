@@ -42,22 +42,19 @@ namespace hertzgear::dynamics
       double F = 0, dF_da = 0, dF_dt = 0;
     };
 
-    // A cheap estimate of coefficient c at a phase, to find a compression's interval (exact for a
-    // phase of exact coefficients).
-    inline double estimate(const MeshPhase &ph, const unsigned c) { return ph.value(c); }
-
     // The largest number of rungs the law takes.
     constexpr std::size_t max_rungs = 64;
 
-    // One member of the serial mesh on the ladder. Its phase coefficients are X_j(theta) = log
-    // a_j(theta), j = 0..J-1, from `first` on, then the Hermite slopes m_j(theta) at the rungs
-    // (so that an evaluation at a compression finds them without a division).
+    // One member of the serial mesh on the ladder. Its phase coefficients are, per rung j =
+    // 0..J-1, X_j(theta) = log a_j(theta) and the Hermite slope m_j(theta) there (so that an
+    // evaluation at a compression finds them without a division, and the four it needs lie side by
+    // side).
     class LadderMember
     {
     public:
       LadderMember(const std::vector<double> &loads, const std::vector<std::vector<double>> &a,
-                   const double p, const bool varies, const unsigned first)
-        : p(p), first(first)
+                   const double p, const bool varies)
+        : p(p)
       {
         std::vector<FourierSeries> secants; // c_j(theta)
         for (std::size_t j = 0; j < loads.size(); ++j)
@@ -95,7 +92,6 @@ namespace hertzgear::dynamics
       // FourierEvaluator).
       void phase_coefficients(const double c1, const double s1, double *taylor) const
       {
-        double *x0 = taylor + 3 * first;
         if (harmonics == 0)
           {
             mean_coefficients(taylor);
@@ -121,7 +117,7 @@ namespace hertzgear::dynamics
                 d1 += order * (b[h] * ch[h] - a[h] * sh[h]);
                 d2 -= order * order * term;
               }
-            double *x = x0 + 3 * j;
+            double *x = taylor + 3 * x_index(j);
             x[0]      = (Y[j] - std::log(v)) / p;
             x[1]      = -d1 / (p * v);
             x[2]      = -(d2 * v - d1 * d1) / (p * v * v);
@@ -133,7 +129,7 @@ namespace hertzgear::dynamics
       {
         for (std::size_t j = 0; j < Y.size(); ++j)
           {
-            double *x = taylor + 3 * (first + j);
+            double *x = taylor + 3 * x_index(j);
             x[0]      = constant_x[j];
             x[1] = x[2] = 0.0;
           }
@@ -146,15 +142,10 @@ namespace hertzgear::dynamics
       {
         const long   J = static_cast<long>(Y.size());
         const double X = std::log(a);
-        // The interval k (x_k <= X < x_{k+1}; -1 below the ladder, J - 1 above it): bisection on
-        // the phase's cheap estimates of the x_j, then corrected with their values.
-        long lo = -1, hi = J;
-        while (hi - lo > 1)
-          {
-            const long mid = (lo + hi) / 2;
-            (estimate(ph, unsigned(first + mid)) <= X ? lo : hi) = mid;
-          }
-        long   k  = lo;
+        // The interval k (x_k <= X < x_{k+1}; -1 below the ladder, J - 1 above it): found among
+        // the x_j at the cycle's mean (a plain array), then corrected with the phase's values.
+        long k = static_cast<long>(std::upper_bound(constant_x.begin(), constant_x.end(), X) -
+                                   constant_x.begin()) - 1;
         double xk = 0.0, xk1 = 0.0;
         for (long it = 0; it <= J; ++it)
           {
@@ -310,12 +301,12 @@ namespace hertzgear::dynamics
       template <class Phase>
       double x(const Phase &ph, const std::size_t j) const
       {
-        return ph.value(static_cast<unsigned>(first + j));
+        return ph.value(x_index(j));
       }
       template <class Phase>
       double xr(const Phase &ph, const std::size_t j) const
       {
-        return ph.rate(static_cast<unsigned>(first + j));
+        return ph.rate(x_index(j));
       }
       // The Hermite slope at rung k and its rate.
       template <class Phase>
@@ -324,10 +315,9 @@ namespace hertzgear::dynamics
         const unsigned i = slope_index(k);
         return {ph.value(i), ph.rate(i)};
       }
-      unsigned slope_index(const std::size_t k) const
-      {
-        return static_cast<unsigned>(first + Y.size() + k);
-      }
+      // Where X_j and m_j lie among the member's coefficients.
+      static unsigned x_index(const std::size_t j) { return static_cast<unsigned>(2 * j); }
+      static unsigned slope_index(const std::size_t k) { return static_cast<unsigned>(2 * k + 1); }
       // The Taylor triples of the Hermite slopes m_j in (X, Y) from those of X_j: the cubic
       // spline through the rungs (C2), its slope at the lowest rung the contact's own exponent p
       // (clamped), its curvature at the top zero (natural: C2 into the straight-line
@@ -343,7 +333,7 @@ namespace hertzgear::dynamics
         std::array<double, max_rungs> g[3], G[3];
         for (std::size_t i = 0; i + 1 < J; ++i)
           {
-            const double *lo = taylor + 3 * (first + i), *hi = lo + 3;
+            const double *lo = taylor + 3 * x_index(i), *hi = taylor + 3 * x_index(i + 1);
             const double  h = hi[0] - lo[0], h1 = hi[1] - lo[1], h2 = hi[2] - lo[2];
             g[0][i]         = 1.0 / h;
             g[1][i]         = -h1 * g[0][i] * g[0][i];
@@ -390,7 +380,7 @@ namespace hertzgear::dynamics
           return (i > 0 ? l[o][i] * v[i - 1] : 0.0) + d[o][i] * v[i] +
                  (i + 1 < J ? u[o][i] * v[i + 1] : 0.0);
         };
-        std::array<double, max_rungs> m0 = r[0], m1, m2;
+        std::array<double, max_rungs> m0 = r[0], m1{}, m2{};
         solve(m0);
         for (std::size_t i = 0; i < J; ++i)
           m1[i] = r[1][i] - apply(1, m0, i);
@@ -400,7 +390,7 @@ namespace hertzgear::dynamics
         solve(m2);
         for (std::size_t k = 0; k < J; ++k)
           {
-            double *out = taylor + 3 * (first + J + k);
+            double *out = taylor + 3 * slope_index(k);
             out[0]      = m0[k];
             out[1]      = m1[k];
             out[2]      = m2[k];
@@ -460,29 +450,27 @@ namespace hertzgear::dynamics
       std::vector<double>        constant_x;  // X_j at the mean coefficients
       unsigned                   harmonics = 0;
       double                     p;
-      unsigned                   first;
     };
 
-    // The coefficients X_j, m_j of both members at a mesh angle, from their table over the
-    // cycle: N nodes theta_i = i h, h = 2 pi / N, each coefficient's value, h d/dtheta and h^2
-    // d^2/dtheta^2 at every node, and the quintic Hermite polynomial through the two nodes of the
-    // angle's cell (exact for a quintic; error ~ (h/2)^6 f^(6) / 720). Values and rates are
-    // computed per coefficient, when the force asks for it.
-    class GridPhase
+    // The interpolation over the mesh cycle: N nodes theta_i = i h, h = 2 pi / N, at each the
+    // value, h d/dtheta and h^2 d^2/dtheta^2 of every coefficient of a member that varies, and the
+    // quintic Hermite polynomial through the two nodes of the angle's cell (exact for a quintic;
+    // error ~ (h/2)^6 f^(6) / 720). The cell and its basis are found once per evaluation
+    // (GridCell), each member reads its own table there (GridPhase); values and rates are computed
+    // per coefficient, when the force asks for it.
+    struct GridCell
     {
-    public:
-      GridPhase(const std::vector<double> &grid, const unsigned n_nodes, const unsigned per_node,
-                const double theta, const double w, const bool rates)
+      GridCell(const unsigned n_nodes, const double theta, const double w, const bool rates)
       {
         double u = theta * (double(n_nodes) / (2.0 * M_PI));
         // floor(u) by truncation (std::floor is a library call without SSE4.1); u >= -1 here.
-        double cell = double(std::int64_t(u));
-        cell        = cell > u ? cell - 1.0 : cell;
-        t      = u - cell;
-        long i = static_cast<long>(cell); // in -1 .. N
-        i      = i < 0 ? i + long(n_nodes) : (i >= long(n_nodes) ? i - long(n_nodes) : i);
-        n0     = grid.data() + std::size_t(i) * per_node;
-        n1     = grid.data() + std::size_t(i + 1 == long(n_nodes) ? 0 : i + 1) * per_node;
+        double c = double(std::int64_t(u));
+        c        = c > u ? c - 1.0 : c;
+        const double t = u - c;
+        long i   = static_cast<long>(c); // in -1 .. N
+        i        = i < 0 ? i + long(n_nodes) : (i >= long(n_nodes) ? i - long(n_nodes) : i);
+        node0    = std::size_t(i);
+        node1    = std::size_t(i + 1 == long(n_nodes) ? 0 : i + 1);
         const double t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t;
         b[0]            = 1.0 - 10.0 * t3 + 15.0 * t4 - 6.0 * t5;
         b[1]            = t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5;
@@ -501,36 +489,50 @@ namespace hertzgear::dynamics
         db[4]          = r * (-12.0 * t2 + 28.0 * t3 - 15.0 * t4);
         db[5]          = r * 0.5 * (3.0 * t2 - 8.0 * t3 + 5.0 * t4);
       }
+      std::size_t node0 = 0, node1 = 0;
+      double      b[6], db[6] = {};
+    };
+
+    // A member's coefficients at the cell's angle, from its table over the cycle.
+    class GridPhase
+    {
+    public:
+      GridPhase(const std::vector<double> &grid, const unsigned per_node, const GridCell &cell)
+        : n0(grid.data() + cell.node0 * per_node)
+        , n1(grid.data() + cell.node1 * per_node)
+        , cell(cell)
+      {}
       double value(const unsigned c) const
       {
         const double *p = n0 + 3 * c, *q = n1 + 3 * c;
+        const double *b = cell.b;
         return b[0] * p[0] + b[1] * p[1] + b[2] * p[2] + b[3] * q[0] + b[4] * q[1] + b[5] * q[2];
       }
       double rate(const unsigned c) const
       {
         const double *p = n0 + 3 * c, *q = n1 + 3 * c;
+        const double *db = cell.db;
         return db[0] * p[0] + db[1] * p[1] + db[2] * p[2] + db[3] * q[0] + db[4] * q[1] +
                db[5] * q[2];
       }
-      // The straight line between the nodes (to find an interval; within ~h^2 f'' / 8).
-      double estimate(const unsigned c) const
-      {
-        const double p = n0[3 * c];
-        return p + t * (n1[3 * c] - p);
-      }
 
     private:
-      const double *n0 = nullptr, *n1 = nullptr;
-      double        t = 0.0;
-      double        b[6], db[6] = {};
+      const double   *n0, *n1;
+      const GridCell &cell;
     };
 
-    inline double estimate(const GridPhase &ph, const unsigned c) { return ph.estimate(c); }
+    // The coefficients of a member that does not vary over the cycle: their values, rates 0.
+    struct ConstantPhase
+    {
+      const double *taylor;
+      double        value(const unsigned c) const { return taylor[3 * c]; }
+      double        rate(unsigned) const { return 0.0; }
+    };
 
-    // The law's coefficients: X_j and m_j of the structural member (j = 0..J-1), then of the
-    // Hertzian one (4 J), computed exactly at a phase (LadderMember::phase_coefficients) to make
-    // their table over the cycle; the model's phase coefficient is the mesh angle itself, from
-    // which an evaluation interpolates the few coefficients it needs (GridPhase).
+    // The law's coefficients: X_j and m_j of each member, computed exactly at a phase
+    // (LadderMember::phase_coefficients) to make their table over the cycle for a member that
+    // varies, once at the cycle's mean for one that does not; the model's phase coefficient is the
+    // mesh angle itself, from which an evaluation interpolates the few coefficients it needs.
     class FeMapLaw : public MeshForceLaw
     {
     public:
@@ -538,25 +540,25 @@ namespace hertzgear::dynamics
                const bool hertz_varies)
         : n(table.hertz_exponent)
         , J(static_cast<unsigned>(table.ladder.n_rungs()))
-        , structural(table.ladder.load_N, structural_part(table.ladder), 1.0, structural_varies, 0)
+        , structural(table.ladder.load_N, structural_part(table.ladder), 1.0, structural_varies)
         , hertz(table.ladder.load_N, table.ladder.hertz_approach_m, table.hertz_exponent,
-                hertz_varies, 2 * J)
+                hertz_varies)
         , top(table.ladder.load_N.back())
       {
         // The interpolants between positions must keep every rung's compression growing with
         // the load: checked at 8 phases per position (the interpolants' harmonics are at most
         // S / 2, so this samples each at 16 points per period of the highest).
         const std::size_t   S = table.ladder.n_positions(), n_check = 8 * S;
-        std::vector<double> taylor(n_coefficients());
-        std::vector<std::vector<double>> taylors;
-        for (std::size_t i = 0; i < n_check; ++i)
+        std::vector<double> taylor(per_member());
+        for (const auto *m : {&structural, &hertz})
           {
-            const double theta = 2.0 * M_PI * double(i) / n_check;
-            exact_coefficients(std::cos(theta), std::sin(theta), taylor.data());
-            for (const auto *m : {&structural, &hertz})
+            const char *member = m == &structural ? "structural" : "Hertzian";
+            std::vector<std::vector<double>> taylors;
+            for (std::size_t i = 0; i < n_check; ++i)
               {
-                const char *member = m == &structural ? "structural" : "Hertzian";
-                const long  j      = m->not_increasing(taylor);
+                const double theta = 2.0 * M_PI * double(i) / n_check;
+                m->phase_coefficients(std::cos(theta), std::sin(theta), taylor.data());
+                const long j = m->not_increasing(taylor);
                 HG_REQUIRE_INPUT(j < 0, "stiffness table: load_ladder: between its positions, at "
                                         "mesh phase ", double(i) / n_check, ", the ", member,
                                  " approach interpolated over the cycle does not grow from ",
@@ -571,14 +573,16 @@ namespace hertzgear::dynamics
                                  k + 1 < long(J) ? " and " + std::to_string(table.ladder.load_N[k + 1]) + " N" : std::string(),
                                  " does not grow with the compression: the ladder needs rungs "
                                  "closer together where its stiffness changes fast");
+                if (i % 8 == 0)
+                  taylors.push_back(taylor);
               }
-            if (i % 8 == 0)
-              taylors.push_back(taylor);
+            if (m == &structural)
+              k_bound = structural.stiffness_bound(taylors);
           }
-        k_bound = structural.stiffness_bound(taylors);
-        mean_taylor.assign(n_coefficients(), 0.0);
-        structural.mean_coefficients(mean_taylor.data());
-        hertz.mean_coefficients(mean_taylor.data());
+        structural_mean.assign(per_member(), 0.0);
+        hertz_mean.assign(per_member(), 0.0);
+        structural.mean_coefficients(structural_mean.data());
+        hertz.mean_coefficients(hertz_mean.data());
         tabulate();
       }
 
@@ -596,24 +600,26 @@ namespace hertzgear::dynamics
       void forces(const MeshPhase &phase, const double u, const double d, MeshLawForces &out,
                   const bool rates) const override
       {
-        const GridPhase g = at(phase, rates);
-        const auto member = [&](const LadderMember &m, const double a, const double p, double &F,
-                                double &dF_da, double &dF_dt) {
+        const auto member = [&](const LadderMember &m, const auto &ph, const double a,
+                                const double p, double &F, double &dF_da, double &dF_dt) {
           if (a == 0.0)
             {
               // F = c_0 a^p near zero: slope c_0 for p = 1, else 0.
               F     = 0.0;
               dF_dt = 0.0;
-              dF_da = p == 1.0 ? m.force(g, 1.0e-30, false).dF_da : 0.0;
+              dF_da = p == 1.0 ? m.force(ph, 1.0e-30, false).dF_da : 0.0;
               return;
             }
-          const MemberForce f = m.force(g, std::abs(a), rates);
+          const MemberForce f = m.force(ph, std::abs(a), rates);
           F                   = sign(a) * f.F;
           dF_da               = f.dF_da;
           dF_dt               = sign(a) * f.dF_dt;
         };
-        member(structural, u, 1.0, out.structural, out.structural_du, out.structural_dt);
-        member(hertz, d, n, out.hertz, out.hertz_ddelta, out.hertz_dt);
+        with_phases(phase, rates, [&](const auto &structural_phase, const auto &hertz_phase) {
+          member(structural, structural_phase, u, 1.0, out.structural, out.structural_du,
+                 out.structural_dt);
+          member(hertz, hertz_phase, d, n, out.hertz, out.hertz_ddelta, out.hertz_dt);
+        });
         out.damping_weight       = power_law::H(d, n);
         out.damping_weight_slope = power_law::H_prime(d, n);
       }
@@ -625,38 +631,44 @@ namespace hertzgear::dynamics
         const double a = std::abs(f);
         if (a == 0.0)
           return 0.0;
-        const GridPhase g = at(phase, false);
-        double          lo = 0.0, hi = a, d = 0.5 * a;
-        for (int it = 0; it < 200; ++it)
-          {
-            const MemberForce r = structural.force(g, a - d, false), h = hertz.force(g, d, false);
-            const double      phi = r.F - h.F;
-            (phi > 0.0 ? lo : hi) = d;
-            const double dphi = -r.dF_da - h.dF_da;
-            double       next = d - phi / dphi;
-            if (!(next > lo && next < hi))
-              next = 0.5 * (lo + hi);
-            const bool done = std::abs(next - d) <= 1.0e-15 * a;
-            d               = next;
-            if (done)
-              break;
-          }
+        double d = 0.5 * a;
+        with_phases(phase, false, [&](const auto &structural_phase, const auto &hertz_phase) {
+          double lo = 0.0, hi = a;
+          for (int it = 0; it < 200; ++it)
+            {
+              const MemberForce r = structural.force(structural_phase, a - d, false),
+                                h = hertz.force(hertz_phase, d, false);
+              const double      phi = r.F - h.F;
+              (phi > 0.0 ? lo : hi) = d;
+              const double dphi = -r.dF_da - h.dF_da;
+              double       next = d - phi / dphi;
+              if (!(next > lo && next < hi))
+                next = 0.5 * (lo + hi);
+              const bool done = std::abs(next - d) <= 1.0e-15 * a;
+              d               = next;
+              if (done)
+                break;
+            }
+        });
         return sign(f) * d;
       }
 
       MeshLawEnergy elastic_energy(const MeshPhase &phase, const double u,
                                    const double d) const override
       {
-        const GridPhase g = at(phase, false);
-        return {u == 0.0 ? 0.0 : structural.energy(g, std::abs(u)),
-                d == 0.0 ? 0.0 : hertz.energy(g, std::abs(d))};
+        MeshLawEnergy e;
+        with_phases(phase, false, [&](const auto &structural_phase, const auto &hertz_phase) {
+          e = {u == 0.0 ? 0.0 : structural.energy(structural_phase, std::abs(u)),
+               d == 0.0 ? 0.0 : hertz.energy(hertz_phase, std::abs(d))};
+        });
+        return e;
       }
 
       void static_compressions(const double F, double &u, double &delta) const override
       {
-        const MeshPhase mean{mean_taylor.data(), 0.0, 0.0};
-        u     = F > 0.0 ? structural.compression(mean, F) : 0.0;
-        delta = F > 0.0 ? hertz.compression(mean, F) : 0.0;
+        const ConstantPhase s{structural_mean.data()}, h{hertz_mean.data()};
+        u     = F > 0.0 ? structural.compression(s, F) : 0.0;
+        delta = F > 0.0 ? hertz.compression(h, F) : 0.0;
       }
 
       double structural_stiffness_bound() const override { return k_bound; }
@@ -672,58 +684,68 @@ namespace hertzgear::dynamics
         return u;
       }
 
-      unsigned n_coefficients() const
+      // Coefficients per member (Taylor triples of X_j and m_j).
+      unsigned per_member() const { return 3 * 2 * J; }
+
+      // Calls f(structural phase, Hertzian phase) with each member's coefficients at the mesh
+      // angle of `phase`: its table over the cycle (GridPhase) if it varies, else its constant
+      // coefficients (ConstantPhase).
+      template <class F>
+      void with_phases(const MeshPhase &phase, const bool rates, F &&f) const
       {
-        return 3 * (structural.n_phase_coefficients() + hertz.n_phase_coefficients());
-      }
-      void exact_coefficients(const double c1, const double s1, double *taylor) const
-      {
-        structural.phase_coefficients(c1, s1, taylor);
-        hertz.phase_coefficients(c1, s1, taylor);
-      }
-      GridPhase at(const MeshPhase &phase, const bool rates) const
-      {
-        return GridPhase(grid, n_nodes, n_coefficients(), phase.value(0), phase.w, rates);
+        const ConstantPhase s{structural_mean.data()}, h{hertz_mean.data()};
+        if (!varies_with_phase())
+          return f(s, h);
+        const GridCell cell(n_nodes, phase.value(0), phase.w, rates);
+        const GridPhase sg(structural_grid, per_member(), cell), hg(hertz_grid, per_member(), cell);
+        if (!structural.varies())
+          return f(s, hg);
+        if (!hertz.varies())
+          return f(sg, h);
+        f(sg, hg);
       }
 
-      // The table over the cycle: N = 2^k nodes, from 64 up, doubled until the
-      // quintic reproduces every coefficient at every cell's midpoint within 1e-12 (X_j: of the
-      // logarithm, so relative in the compression; m_j: of the slope, ~1) and its rate within
-      // 1e-10 per radian; a constant law takes one node.
+      // The tables over the cycle of the members that vary: N = 2^k nodes, from 64 up, doubled
+      // until the quintic reproduces every coefficient at every cell's midpoint within 1e-12
+      // (X_j: of the logarithm, so relative in the compression; m_j: of the slope, ~1) and its
+      // rate within 1e-10 per radian.
       void tabulate()
       {
-        const unsigned per = n_coefficients();
         if (!varies_with_phase())
-          {
-            n_nodes = 1;
-            grid    = mean_taylor;
-            return;
-          }
+          return;
+        const unsigned      per = per_member();
         std::vector<double> exact(per);
         for (n_nodes = 64;; n_nodes *= 2)
           {
             const double h = 2.0 * M_PI / n_nodes;
-            grid.assign(std::size_t(n_nodes) * per, 0.0);
-            for (unsigned i = 0; i < n_nodes; ++i)
-              {
-                double *node = grid.data() + std::size_t(i) * per;
-                exact_coefficients(std::cos(i * h), std::sin(i * h), node);
-                for (unsigned c = 0; c < per; c += 3)
-                  {
-                    node[c + 1] *= h;
-                    node[c + 2] *= h * h;
-                  }
-              }
             double value_error = 0.0, rate_error = 0.0;
-            for (unsigned i = 0; i < n_nodes; ++i)
+            for (const auto &[m, grid] : {std::pair{&structural, &structural_grid},
+                                          std::pair{&hertz, &hertz_grid}})
               {
-                const double theta = (i + 0.5) * h;
-                exact_coefficients(std::cos(theta), std::sin(theta), exact.data());
-                const GridPhase g(grid, n_nodes, per, theta, 1.0, true);
-                for (unsigned c = 0; 3 * c < per; ++c)
+                if (!m->varies())
+                  continue;
+                grid->assign(std::size_t(n_nodes) * per, 0.0);
+                for (unsigned i = 0; i < n_nodes; ++i)
                   {
-                    value_error = std::max(value_error, std::abs(g.value(c) - exact[3 * c]));
-                    rate_error  = std::max(rate_error, std::abs(g.rate(c) - exact[3 * c + 1]));
+                    double *node = grid->data() + std::size_t(i) * per;
+                    m->phase_coefficients(std::cos(i * h), std::sin(i * h), node);
+                    for (unsigned c = 0; c < per; c += 3)
+                      {
+                        node[c + 1] *= h;
+                        node[c + 2] *= h * h;
+                      }
+                  }
+                for (unsigned i = 0; i < n_nodes; ++i)
+                  {
+                    const double theta = (i + 0.5) * h;
+                    m->phase_coefficients(std::cos(theta), std::sin(theta), exact.data());
+                    const GridCell  cell(n_nodes, theta, 1.0, true);
+                    const GridPhase g(*grid, per, cell);
+                    for (unsigned c = 0; 3 * c < per; ++c)
+                      {
+                        value_error = std::max(value_error, std::abs(g.value(c) - exact[3 * c]));
+                        rate_error  = std::max(rate_error, std::abs(g.rate(c) - exact[3 * c + 1]));
+                      }
                   }
               }
             HG_REQUIRE_INPUT(n_nodes < max_nodes || (value_error <= 1e-12 && rate_error <= 1e-10),
@@ -743,8 +765,8 @@ namespace hertzgear::dynamics
       LadderMember        structural, hertz;
       double              top;
       double              k_bound = 0.0;
-      std::vector<double> mean_taylor;
-      std::vector<double> grid;
+      std::vector<double> structural_mean, hertz_mean; // coefficients at the cycle's mean
+      std::vector<double> structural_grid, hertz_grid; // tables over the cycle (members that vary)
       unsigned            n_nodes = 1;
     };
   } // namespace

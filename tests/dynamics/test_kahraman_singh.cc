@@ -182,9 +182,10 @@ TEST(Validation, KahramanSinghSofteningJump)
 // outermost turning points, to half a sweep step. The branch's turning points are its folds (a
 // multiplier at +1), its corner turns (it turns back at a grazing contact, no multiplier at 1) and
 // the turning points it noted as not located (a corrector that fails at the corner itself; their
-// step's range, here about 5e-5 wide, stands for them): the lower turning point of the harmonic
-// balance is of that last kind, where the branch zig-zags across grazing corners. No fold is
-// reported where no multiplier is 1. Shooting with Radau IIA at rtol 1e-10 and Newton to 1e-6 of
+// step's range stands for them). Measured: the upper fold 0.9090756 and the inner 0.4047507 (HB
+// 0.9090756 and 0.4048), the outermost turning point a corner turn at 0.3857 (the orbit grazes
+// there; HB smooths the corner into a fold at 0.3861) and at HB's third fold 0.3948083 a corner
+// turn at 0.3951226. No fold is reported where no multiplier is 1. Shooting with Radau IIA at rtol 1e-10 and Newton to 1e-6 of
 // the state scale: the period map of this oscillator, whose damping jumps at every contact
 // switch, is smooth to about 1e-9 there, and tighter Newton tolerances make the corrector stall on
 // that floor on the unstable branch.
@@ -207,10 +208,14 @@ TEST(Validation, KahramanSinghFoldsByContinuation)
   const auto &branch = r.branches[0];
   EXPECT_FALSE(branch.ended_in_failure) << branch.end_reason;
   std::vector<double> turning; // folds, corner turns, and turning points noted as not located
+  std::string         kinds;   // f, c, n for each (printed)
   for (const auto &p : branch.points)
     {
       if (p.bifurcation == Bifurcation::fold || p.bifurcation == Bifurcation::corner_turn)
-        turning.push_back(p.lambda);
+        {
+          turning.push_back(p.lambda);
+          kinds += p.bifurcation == Bifurcation::fold ? 'f' : 'c';
+        }
       if (p.bifurcation == Bifurcation::fold)
         {
           double nearest_one = 1e9;
@@ -221,11 +226,14 @@ TEST(Validation, KahramanSinghFoldsByContinuation)
     }
   for (const auto &note : branch.notes)
     if (note.kind == Bifurcation::fold)
-      turning.push_back(0.5 * (note.lambda_from + note.lambda_to));
-  std::printf("harmonic balance folds %.7f, %.7f; continuation turning points:", hb_up.omega,
-              hb_down.omega);
-  for (const double f : turning)
-    std::printf(" %.7f", f);
+      {
+        turning.push_back(0.5 * (note.lambda_from + note.lambda_to));
+        kinds += 'n';
+      }
+  std::printf("harmonic balance folds %.7f, %.7f; continuation turning points (f fold, c corner "
+              "turn, n not located):", hb_up.omega, hb_down.omega);
+  for (std::size_t i = 0; i < turning.size(); ++i)
+    std::printf(" %.7f %c", turning[i], kinds[i]);
   std::printf(" (%zu corners passed, %zu orbits)\n", std::size_t(branch.corners), branch.points.size());
   ASSERT_GE(turning.size(), 2u);
   const double upper = *std::max_element(turning.begin(), turning.end());
