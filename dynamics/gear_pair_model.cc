@@ -473,6 +473,22 @@ namespace hertzgear::dynamics
       }
   }
 
+  bool GearPairModel::root_seam(const double t, const double *y, const unsigned r) const
+  {
+    // The layer's root (the last) is zone * delta inside a contact zone and |p| - b_c outside:
+    // where the teeth leave contact with the layer still compressed it jumps from delta > 0 to
+    // 0- on the zone's surface, whose own root is the switching there; a second event there is
+    // that seam (located a rounding apart, on either side). The layer's own switchings -- delta
+    // through 0 inside a zone, and its closing as a contact begins with the layer relaxed -- take
+    // place with delta at 0, and stay events.
+    if (!has_delta_state || r + 1 != n_root_functions || b_c <= 0.0)
+      return false;
+    const double p         = y[0] - excitation(t);
+    const double on_zone   = std::abs(std::abs(p) - b_c);
+    const double delta_tol = 1e-6 * x_scale;
+    return on_zone <= 1e-9 * x_scale && std::abs(y[2]) > delta_tol;
+  }
+
   bool GearPairModel::handle_event(const double t, double *y, const int *directions)
   {
     if (prm.effects.contact_damping != ContactDamping::lankarani_nikravesh ||

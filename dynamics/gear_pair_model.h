@@ -130,6 +130,7 @@ namespace hertzgear::dynamics
     unsigned n_roots() const override { return n_root_functions; }
     void     roots(double t, const double *y, double *g) const override;
     bool     handle_event(double t, double *y, const int *directions) override;
+    bool     root_seam(double t, const double *y, unsigned r) const override;
     void     residual(double t, const double *y, const double *y_dot, double *r) override;
     std::vector<double> differential_components() const override;
     void consistent_initial_derivative(double t, double *y, double *y_dot) override;

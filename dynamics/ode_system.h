@@ -44,6 +44,14 @@ namespace hertzgear::dynamics
     {
       return false;
     }
+    // Whether the sign change of root function r at (t, y) is only the seam of a root function
+    // defined piecewise -- its definition changes on the surface of another root, whose own event
+    // is the switching there -- and no switching of the vector field of its own: the
+    // sensitivities then take no saltation matrix for it (they would count that switching twice).
+    virtual bool root_seam(double /*t*/, const double * /*y*/, unsigned /*r*/) const
+    {
+      return false;
+    }
 
     // Residual form for the DAE integrator: r = M(t, y) y' - g(t, y) with M possibly singular
     // (an algebraic equation where it vanishes). The default is r = y' - f(t, y).

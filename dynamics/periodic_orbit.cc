@@ -165,7 +165,7 @@ namespace hertzgear::dynamics
     for (unsigned i = 0; i < nr && r == nr; ++i)
       if (directions[i] != 0)
         r = i;
-    if (r == nr)
+    if (r == nr || base.root_seam(t, y, r))
       return base.handle_event(t, y, directions);
     const int dir = directions[r];
 
