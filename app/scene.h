@@ -79,6 +79,7 @@ namespace hertzgear
     int                   fe_degree           = 0;
     int                   contact_grid_profile_points = 0;
     int                   contact_grid_face_points    = 0;
+    std::string           contact_grid_face_extent; // face-width | load
     int                   contact_max_iterations      = 0;
     std::string           tooth_coupling; // coupled | decoupled (study switch)
     double                reference_depth_mm          = 0; // 0 = 3 x band element size

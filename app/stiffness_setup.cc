@@ -51,6 +51,7 @@ namespace hertzgear
     fe.face_width_layers          = scene.mesh.face_width_layers;
     fe.contact_grid_profile_cells = st.contact_grid_profile_points;
     fe.contact_grid_face_cells    = st.contact_grid_face_points;
+    fe.contact_grid_face_extent   = st.contact_grid_face_extent;
     fe.contact_max_iterations     = st.contact_max_iterations;
     fe.decoupled_teeth            = st.tooth_coupling == "decoupled";
     fe.reference_depth_mm         = st.reference_depth_mm;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace hertzgear::contact
 {
@@ -15,6 +16,32 @@ namespace hertzgear::contact
     // Cells of a pair that lie beyond a tip or below the form circle of either flank carry no
     // load: they get this gap [mm], far larger than any elastic approach.
     constexpr double no_flank_gap_mm = 1.0e3;
+
+    // Relative curvature of the two flanks along the face [1/mm]: the sum of their lead crowning
+    // curvatures (0 uncrowned: line contact).
+    double face_curvature_per_mm(const meshing::PairKinematics &kin)
+    {
+      double k = 0;
+      for (unsigned int body = 0; body < 2; ++body)
+        {
+          const double rc = kin.body(body).crowning_radius_mm();
+          if (std::isfinite(rc) && rc > 0)
+            k += 1.0 / rc;
+        }
+      return k;
+    }
+
+    // Hertz's elliptical contact of the whole load on one pair at the pitch point (crowned
+    // flanks: kappa_face > 0).
+    hertz::EllipticalContact pitch_point_ellipse(const meshing::PairKinematics &kin,
+                                                 const Material m[2], const double load_N,
+                                                 const double kappa_face)
+    {
+      const auto   c = kin.point('C');
+      const double E = hertz::contact_modulus(m[0], m[1]);
+      const double R = hertz::effective_radius(c.rho_pinion_mm, c.rho_gear_mm);
+      return hertz::elliptical_contact(load_N, 1.0 / R, kappa_face, E);
+    }
 
     // Contact half-width across the profile of the whole load on one pair at the pitch point,
     // from Hertz: line contact when uncrowned, elliptical when crowned (whichever is wider).
@@ -26,19 +53,10 @@ namespace hertzgear::contact
       const double R    = hertz::effective_radius(c.rho_pinion_mm, c.rho_gear_mm);
       const double b    = std::min(kin.pinion().face_width_mm(), kin.gear().face_width_mm());
       double       half = hertz::line_contact(load_N / b, R, E).half_width;
-      const double kappa_face = [&] {
-        double k = 0;
-        for (unsigned int body = 0; body < 2; ++body)
-          {
-            const double rc = kin.body(body).crowning_radius_mm();
-            if (std::isfinite(rc) && rc > 0)
-              k += 1.0 / rc;
-          }
-        return k;
-      }();
+      const double kappa_face = face_curvature_per_mm(kin);
       if (kappa_face > 0)
         {
-          const auto ell = hertz::elliptical_contact(load_N, 1.0 / R, kappa_face, E);
+          const auto ell = pitch_point_ellipse(kin, m, load_N, kappa_face);
           half           = std::max(half, ell.major_axis_along_x ? ell.semi_major : ell.semi_minor);
         }
       return half;
@@ -51,6 +69,10 @@ namespace hertzgear::contact
     std::vector<double> roll_mm;   // contact-line pinion roll per block
     unsigned int        n_u = 0, n_z = 0;
     double              du = 0, dz = 0, face_width = 0;
+    // Face extent of the cells [mm] (the whole face: -face_width/2 .. face_width/2), and whether
+    // its ends are the face's ends.
+    double              z_min = 0, z_max = 0;
+    bool                z_min_is_face_end = true, z_max_is_face_end = true;
     // per cell (block-major, then i_u + n_u * i_z as half_space::ContactGrid numbers them)
     std::vector<int>        cell_block;
     std::vector<FlankPoint> pinion_point, gear_point;
@@ -91,7 +113,48 @@ namespace hertzgear::contact
                                              3.0 * hertz_half_width_mm(kinematics, materials, load_N);
   }
 
-  MeshCycle::Grid MeshCycle::build_grid(const double mesh_phase, const double w) const
+  bool MeshCycle::face_band_follows_load() const
+  {
+    return !settings.plane_strain && settings.face_extent == MeshCycleSettings::FaceExtent::load &&
+           face_curvature_per_mm(kinematics) > 0;
+  }
+
+  MeshCycle::FaceBand MeshCycle::face_band(const double load_N) const
+  {
+    // The grid's face extent follows the load where the contact is a point contact, for the
+    // same reason as the band across the profile does: a grid whose cells keep their size while
+    // the contact grows lets the contact's edges cross cell boundaries one by one, and each
+    // crossing changes the discretisation error in a step (on the paper's crowned pair over the
+    // whole face with 16 cells: log-log slopes of the Hertzian part 0.83-0.87 up to 1166 N, 1.78
+    // to 1296 N, then 0.41-0.55; docs/theory-tca.md). A band that scales with the contact keeps
+    // the contact on about the same cells at every load, so that error is smooth in the load.
+    //  - Scale: b, Hertz's semi-axis along the face of the whole load on one pair at the pitch
+    //    point, the same contact whose other semi-axis sets the band across the profile. It grows
+    //    as F^(1/3), as the contact does; the structural compliance lengthens the loaded zone
+    //    beyond b (on the crowned paper pair 0.85-1.2 b from 2 to 400 % of the nominal load),
+    //    hence c = face_band_semi_axes = 2 by default: the contact then spans about half the
+    //    band's cells (8 of 16; 3 a across the profile puts it on 8 of 24).
+    //  - Centre: where the unloaded gap along the face is smallest. The gap separates into a
+    //    profile part and a lead part (lead modifications of both flanks and the misalignment,
+    //    PairKinematics::lead_gap_mm), so that place is the same for every pair and position.
+    //  - Clipped to the face: a band that would leave it ends at the face end, and from the load
+    //    at which c b reaches half the face width on (about 280 % of the nominal load on the
+    //    crowned paper pair) the band is the whole face, the default grid.
+    // Where the contact still reaches an inner edge of the band (misalignment, relieved ends, a
+    // load carried by one pair far beyond b), solve_position enlarges the band and solves again.
+    const double half_face = 0.5 * kinematics.face_width_mm();
+    const double kappa     = face_curvature_per_mm(kinematics);
+    if (!face_band_follows_load())
+      return {-half_face, half_face};
+    const auto   ell    = pitch_point_ellipse(kinematics, materials, load_N, kappa);
+    const double b_face = ell.major_axis_along_x ? ell.semi_minor : ell.semi_major;
+    const double centre = kinematics.smallest_lead_gap_mm().first;
+    const double half   = settings.face_band_semi_axes * b_face;
+    return {std::max(-half_face, centre - half), std::min(half_face, centre + half)};
+  }
+
+  MeshCycle::Grid MeshCycle::build_grid(const double mesh_phase, const double w,
+                                        const FaceBand &face) const
   {
     Grid         g;
     const double s_A = kinematics.point('A').roll_distance_mm;
@@ -121,7 +184,13 @@ namespace hertzgear::contact
     g.n_u               = settings.profile_cells;
     g.n_z               = settings.plane_strain ? 1 : settings.face_cells;
     g.du                = 2.0 * w / g.n_u;
-    g.dz                = g.face_width / g.n_z;
+    const double tol    = 1e-9 * g.face_width;
+    g.z_min             = std::max(face.min_mm, -0.5 * g.face_width);
+    g.z_max             = std::min(face.max_mm, 0.5 * g.face_width);
+    HG_REQUIRE_NUMERIC(g.z_max > g.z_min, "empty face band of the contact grid");
+    g.z_min_is_face_end = g.z_min <= -0.5 * g.face_width + tol;
+    g.z_max_is_face_end = g.z_max >= 0.5 * g.face_width - tol;
+    g.dz                = (g.z_max - g.z_min) / g.n_z;
 
     // Flank extents as roll distances: form circle to tip circle of each body.
     const auto roll_at = [](const meshing::GearGeometry &gg, const double radius) {
@@ -141,7 +210,7 @@ namespace hertzgear::contact
         for (unsigned int iu = 0; iu < g.n_u; ++iu)
           {
             const double u  = -w + (iu + 0.5) * g.du; // surface distance across the profile
-            const double z  = -0.5 * g.face_width + (iz + 0.5) * g.dz;
+            const double z  = g.z_min + (iz + 0.5) * g.dz;
             const double sc = g.roll_mm[b];
             // involute arc length from the base circle is s^2 / (2 r_b): invert it exactly
             const double s2 = sc * sc + 2.0 * r_b1 * u;
@@ -162,8 +231,7 @@ namespace hertzgear::contact
 
     // Local part: per pair, both bodies, surface minus reference depth (the FE counts the rest).
     const double depth = compliances[0]->reference_depth_mm();
-    const auto   grid  = half_space::ContactGrid::covering(-w, w, -0.5 * g.face_width,
-                                                        0.5 * g.face_width, g.n_u, g.n_z);
+    const auto   grid  = half_space::ContactGrid::covering(-w, w, g.z_min, g.z_max, g.n_u, g.n_z);
     Eigen::MatrixXd block = Eigen::MatrixXd::Zero(n_block, n_block);
     for (unsigned int body = 0; body < 2; ++body)
       {
@@ -230,10 +298,51 @@ namespace hertzgear::contact
   {
     HG_REQUIRE_INPUT(load_N > 0, "the mesh load must be positive ({torque_Nm} > 0), got ",
                      load_N, " N");
-    const Grid            g   = build_grid(mesh_phase, band_half_width(load_N));
-    const ContactSolution sol = solve_contact(g, load_N);
+    // The grid of a load and the contact on it. The contact must not be truncated by the grid's
+    // face band: a loaded cell in a band's outermost column whose edge is not a face end means
+    // the band cut the contact short. The band then grows by half about its centre (clipped to
+    // the face) and the load is solved again; a whole-face band is never enlarged, so
+    // face_end_contact keeps meaning the real face end.
+    struct Solved
+    {
+      std::optional<Grid> grid;
+      ContactSolution     sol;
+      unsigned int        enlargements = 0;
+    };
+    const auto solve_on_own_grid = [&](const double load) {
+      Solved       out;
+      FaceBand     face = face_band(load);
+      const double w    = band_half_width(load);
+      for (;;)
+        {
+          out.grid.emplace(build_grid(mesh_phase, w, face));
+          out.sol        = solve_contact(*out.grid, load);
+          const auto &gg = *out.grid;
+          bool cut_min = false, cut_max = false;
+          for (unsigned int k = 0; k < gg.n_cells(); ++k)
+            if (out.sol.pressure(k) > 0 && gg.n_z > 1)
+              {
+                const unsigned int iz = (k % (gg.n_u * gg.n_z)) / gg.n_u;
+                cut_min = cut_min || (iz == 0 && !gg.z_min_is_face_end);
+                cut_max = cut_max || (iz + 1 == gg.n_z && !gg.z_max_is_face_end);
+              }
+          if (!cut_min && !cut_max)
+            return out;
+          const double centre = 0.5 * (face.min_mm + face.max_mm);
+          const double half   = 0.75 * (face.max_mm - face.min_mm);
+          face                = {std::max(-0.5 * gg.face_width, centre - half),
+                                 std::min(0.5 * gg.face_width, centre + half)};
+          ++out.enlargements;
+        }
+    };
+    const Solved           at_load = solve_on_own_grid(load_N);
+    const Grid            &g       = *at_load.grid;
+    const ContactSolution &sol     = at_load.sol;
 
     PositionResult r;
+    r.face_band_min_mm       = g.z_min;
+    r.face_band_max_mm       = g.z_max;
+    r.face_band_enlargements = at_load.enlargements;
     r.mesh_phase      = mesh_phase;
     // The kinematics put the smallest gap on the contact lines at 0; with profile modifications
     // the first point to touch may lie slightly off them, which the grid resolves: the unloaded
@@ -247,11 +356,32 @@ namespace hertzgear::contact
     r.n_iterations    = sol.n_iterations;
     r.k_total_secant_N_per_mm = load_N / r.approach_mm;
 
-    // Tangent stiffness by a central difference in the load.
-    const double h      = settings.tangent_step;
-    const double d_plus = solve_contact(g, load_N * (1 + h)).approach;
-    const double d_minus = solve_contact(g, load_N * (1 - h)).approach;
-    r.k_total_tangent_N_per_mm = 2.0 * h * load_N / (d_plus - d_minus);
+    // Tangent stiffness by a central difference in the load. On a grid that stays put the
+    // difference is taken on the grid of this load. Where the face band follows the load, the
+    // elastic approach of a load is the one on that load's own grid (the load ladder and the
+    // torque map are made of those), and so is the difference: on one fixed grid of a point
+    // contact the active set hardly changes over +-2 % of the load, and the incremental
+    // stiffness is that of the loaded cells as a flat punch, whose size lags the contact's by
+    // up to a cell at each edge. On the crowned paper pair (3D, level 0, 16 face cells) that
+    // made the fixed-grid tangent 5-7 % softer than the slope of the approach over the load at
+    // the first position and 2-4 % at the fourth, while the slope over the load agreed with the
+    // fixed-grid tangent of a 64-cell grid within that one's own scatter (docs/theory-tca.md).
+    const double h = settings.tangent_step;
+    if (face_band_follows_load())
+      {
+        const auto approach_at = [&](const double load) {
+          const Solved s = solve_on_own_grid(load);
+          return s.sol.approach - s.grid->gap.minCoeff();
+        };
+        r.k_total_tangent_N_per_mm =
+          2.0 * h * load_N / (approach_at(load_N * (1 + h)) - approach_at(load_N * (1 - h)));
+      }
+    else
+      {
+        const double d_plus  = solve_contact(g, load_N * (1 + h)).approach;
+        const double d_minus = solve_contact(g, load_N * (1 - h)).approach;
+        r.k_total_tangent_N_per_mm = 2.0 * h * load_N / (d_plus - d_minus);
+      }
 
     const unsigned int n_block = g.n_u * g.n_z;
     const Eigen::VectorXd local_displacement = g.local * sol.pressure;
@@ -305,9 +435,11 @@ namespace hertzgear::contact
                     z_last = static_cast<int>(jz);
                   }
               }
+            // (Both edges of the grid's face extent are then the face's ends: a band is enlarged
+            // until the contact stays inside it.)
             const bool reaches_edges = z_first == 0 && z_last == static_cast<int>(g.n_z) - 1;
             ps.contact_b_mm = reaches_edges ?
-                                0.5 * g.face_width :
+                                0.5 * (g.z_max - g.z_min) :
                                 3.0 * ps.force_N / (2.0 * M_PI * ps.contact_a_mm * ps.peak_pressure_MPa);
           }
         weighted_penetration += ps.load_share * ps.hertz_penetration_mm;
@@ -331,7 +463,7 @@ namespace hertzgear::contact
         force += sol.pressure(k) * g.area(k);
         moment += sol.pressure(k) * g.area(k) * g.z_mm[k];
         const unsigned int local = k % n_block, iu = local % g.n_u, iz = local / g.n_u;
-        if (g.n_z > 1 && (iz == 0 || iz + 1 == g.n_z))
+        if (g.n_z > 1 && ((iz == 0 && g.z_min_is_face_end) || (iz + 1 == g.n_z && g.z_max_is_face_end)))
           r.face_end_contact = true;
         if ((iu > 0 && !g.on_flank[k - 1]) || (iu + 1 < g.n_u && !g.on_flank[k + 1]))
           r.tip_contact = true;
@@ -361,6 +493,9 @@ namespace hertzgear::contact
     MeshCycleResult result;
     result.load_N = load_N;
     result.band_half_width_mm = band_half_width(load_N);
+    const auto face           = face_band(load_N);
+    result.face_band_min_mm   = face.min_mm;
+    result.face_band_max_mm   = face.max_mm;
 
     std::vector<double> phase, k_h, k_t, ste;
     double              k_rest_sum = 0;

@@ -98,7 +98,19 @@ namespace hertzgear::contact
     unsigned int n_positions   = 16;  // S, uniformly over one mesh cycle
     unsigned int n_harmonics   = 4;   // of the Fourier fits
     unsigned int profile_cells = 24;  // across the contact band, per pair
-    unsigned int face_cells    = 16;  // along the face width, per pair (1 for plane strain)
+    unsigned int face_cells    = 16;  // along the face extent, per pair (1 for plane strain)
+    // Face extent of the contact grid (3D): the whole face width, or (load) a band that follows
+    // the load for point contact, face_band_semi_axes times the Hertz semi-axis along the face
+    // of the whole load on one pair, around the smallest unloaded gap along the face, clipped to
+    // the face and enlarged where the contact would reach its inner edge (MeshCycle::face_band,
+    // docs/theory-tca.md, "Compliance of the contact grid").
+    enum class FaceExtent
+    {
+      face_width,
+      load
+    };
+    FaceExtent face_extent         = FaceExtent::face_width;
+    double     face_band_semi_axes = 2.0; // c of the load band's half-length c b_Hertz(F)
     // Half-width of the contact band across the profile [mm]; 0 = automatic: three times the
     // Hertz half-width of the whole load on one pair at the pitch point.
     double band_half_width_mm = 0;
@@ -140,6 +152,10 @@ namespace hertzgear::contact
     // the active profile of either gear: edge contact at a tip).
     double                 contact_centre_z_mm  = 0;
     bool                   face_end_contact     = false;
+    // Face extent of the contact grid that was solved [mm] (the whole face, or the load band
+    // after any enlargement, FaceExtent::load).
+    double                 face_band_min_mm = 0, face_band_max_mm = 0;
+    unsigned int           face_band_enlargements = 0;
     bool                   tip_contact          = false;
     std::vector<PairState> pairs;
     unsigned int           n_cells = 0, n_active = 0, n_iterations = 0;
@@ -159,6 +175,7 @@ namespace hertzgear::contact
     FourierSeries               k_hertz, k_total, ste_mm;
     double                      mean_k_rest_N_per_mm = 0;
     double                      band_half_width_mm   = 0;
+    double                      face_band_min_mm = 0, face_band_max_mm = 0; // before enlargement
     double                      load_N               = 0;
   };
 
@@ -181,9 +198,23 @@ namespace hertzgear::contact
     // Half-width of the contact band across the profile [mm] at this load.
     double band_half_width(double load_N) const;
 
+    // Face extent of the contact grid before any enlargement [mm]: the whole face width, or for
+    // FaceExtent::load and a crowned (point) contact the band [z_c - c b, z_c + c b] clipped to
+    // the face, z_c where the unloaded gap along the face is smallest and b the Hertz semi-axis
+    // along the face of the whole load on one pair at the pitch point.
+    struct FaceBand
+    {
+      double min_mm = 0, max_mm = 0;
+    };
+    FaceBand face_band(double load_N) const;
+    // Whether the grid's face extent follows the load (FaceExtent::load and a crowned contact in
+    // 3D); the tangent stiffness is then the slope of the approach over the load, each load on
+    // its own grid.
+    bool face_band_follows_load() const;
+
   private:
     struct Grid;
-    Grid             build_grid(double mesh_phase, double band_half_width_mm) const;
+    Grid build_grid(double mesh_phase, double band_half_width_mm, const FaceBand &face) const;
     ContactSolution  solve_contact(const Grid &grid, double load_N) const;
 
     const meshing::PairKinematics &kinematics;

@@ -740,8 +740,21 @@ namespace hertzgear::stiffness
         const contact::FlankCompliance &c1 =
           fe.decoupled_teeth ? static_cast<const contact::FlankCompliance &>(decoupled_gear) : compliance(1);
         const contact::MeshCycle mesh_cycle(kinematics, input.pinion_material, input.gear_material, c0, c1, cs);
-        if (!progress)
-          return mesh_cycle.run(load);
+        auto result = progress ? cycle_with_progress(mesh_cycle, cs, load) : mesh_cycle.run(load);
+        // The load face band is sized from Hertz; say where the contact outgrew it.
+        const auto enlarged = std::count_if(result.positions.begin(), result.positions.end(),
+                                            [](const auto &p) { return p.face_band_enlargements > 0; });
+        if (enlarged > 0)
+          progress_line("stiffness", msg("note: at ", load, " N the contact grid's face band was enlarged at ",
+                                         enlarged, " of ", result.positions.size(),
+                                         " positions (the contact outgrew ", cs.face_band_semi_axes,
+                                         " Hertz semi-axes along the face)"));
+        return result;
+      }
+
+      contact::MeshCycleResult cycle_with_progress(const contact::MeshCycle &mesh_cycle,
+                                                   const contact::MeshCycleSettings &cs, const double load) const
+      {
         auto t0 = std::chrono::steady_clock::now();
         return mesh_cycle.run(load, [&](unsigned int i, const contact::PositionResult &p) {
           std::ostringstream line;
@@ -763,6 +776,9 @@ namespace hertzgear::stiffness
         cs.n_harmonics    = static_cast<unsigned int>(input.harmonics);
         cs.profile_cells  = static_cast<unsigned int>(fe.contact_grid_profile_cells);
         cs.face_cells     = static_cast<unsigned int>(fe.contact_grid_face_cells);
+        cs.face_extent    = fe.contact_grid_face_extent == "load" ?
+                              contact::MeshCycleSettings::FaceExtent::load :
+                              contact::MeshCycleSettings::FaceExtent::face_width;
         cs.hertz_exponent = input.hertz_exponent;
         cs.plane_strain   = dim == 2;
         cs.max_contact_iterations = static_cast<unsigned int>(fe.contact_max_iterations);
@@ -1011,6 +1027,16 @@ namespace hertzgear::stiffness
         m["contact_band_half_width_mm"] = cycle.band_half_width_mm;
         m["contact_grid"] = {{"profile_cells", cycle_settings.profile_cells},
                              {"face_cells", dim == 2 ? 1u : cycle_settings.face_cells}};
+        // Recorded only for the load band, so that tables of the default grid stay as they were.
+        if (dim == 3 && cycle_settings.face_extent == contact::MeshCycleSettings::FaceExtent::load)
+          {
+            unsigned int enlarged = 0;
+            for (const auto &p : cycle.positions)
+              enlarged += p.face_band_enlargements > 0;
+            m["contact_grid"]["face_extent"]     = "load";
+            m["contact_grid"]["face_band_mm"]    = {cycle.face_band_min_mm, cycle.face_band_max_mm};
+            m["contact_grid"]["face_band_enlarged_positions"] = enlarged;
+          }
         return r;
       }
     };

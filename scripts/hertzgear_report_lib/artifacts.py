@@ -860,11 +860,20 @@ class LoadMap:
         return t["z_mm"][rows], roll, t["pressure_MPa"][rows], cell_heights(roll, groups)
 
     def cell_width_mm(self):
-        """The face-width extent of a contact-grid cell: the spacing of its z values."""
-        z = np.unique(self.cells["z_mm"]) if self.cells is not None else np.array([])
-        steps = np.diff(z)
-        if steps.size:
-            return float(np.min(steps[steps > 1e-9]))
+        """The face-width extent of a contact-grid cell: the spacing of its z values within one
+        case (a grid whose face band follows the load, Stiffness/contact_grid_face_extent =
+        load, has its own spacing per load), the smallest over the cases."""
+        t = self.cells
+        z = t["z_mm"] if t is not None else np.array([])
+        case = t["case"] if t is not None and t.numeric("case") else np.zeros(np.shape(z))
+        widths = []
+        for c in np.unique(case):
+            steps = np.diff(np.unique(z[case == c]))
+            steps = steps[steps > 1e-9]
+            if steps.size:
+                widths.append(float(np.min(steps)))
+        if widths:
+            return min(widths)
         return (self.face_width_mm or 1.0) / 16
 
 
