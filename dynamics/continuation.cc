@@ -364,7 +364,7 @@ namespace hertzgear::dynamics
           {
             Corrected c = correct(z + h * tau, tau, k, cs.corrector_iterations);
             Vec       tau1;
-            bool      accept = c.ok;
+            bool      accept = c.ok, passed_corner = false;
             if (accept)
               {
                 tau1 = tangent(c.ev, tau);
@@ -381,8 +381,9 @@ namespace hertzgear::dynamics
                     // A corner of the branch (a grazing contact: the period map is continuous
                     // but its derivative jumps), passed with a step from beyond it.
                     ++branch.corners;
-                    h      = h_corner;
-                    accept = true;
+                    h             = h_corner;
+                    accept        = true;
+                    passed_corner = true;
                   }
               }
             if (!accept)
@@ -430,8 +431,10 @@ namespace hertzgear::dynamics
                   // A step that spans the turning point too coarsely (its corrected points jump
                   // from one side of a fold to the other, so that the bisection closes on that jump,
                   // or a corrector fails on the way) is taken again, shorter, down to the steps of
-                  // a corner; only then is what it found classified below.
-                  const bool shorter = h > corner_step();
+                  // a corner; only then is what it found classified below. A step that passed a
+                  // corner is not retaken: every shorter one failed, and retaking it passed the
+                  // same corner with the same step again, without end.
+                  const bool shorter = h > corner_step() && !passed_corner;
                   if (!located && shorter)
                     {
                       retry_shorter = true;

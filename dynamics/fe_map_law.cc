@@ -13,10 +13,11 @@
 // slope (an extrapolation the analyses count, docs/dynamics.md). The spline is checked to grow
 // at every phase (a ladder whose spline does not is refused).
 //
-// The coefficients X_j(theta) and the spline's slopes m_j(theta) of both members are computed
-// exactly on N nodes over the cycle at construction; an evaluation interpolates the few it
-// needs by the quintic Hermite polynomial of its cell (GridPhase), N doubled until that is exact
-// to 1e-12 (docs/dynamics.md, "What an evaluation costs").
+// The coefficients X_j(theta) and the spline's slopes m_j(theta) of each member that varies over
+// the cycle are computed exactly on N nodes over the cycle at construction; an evaluation
+// interpolates the few it needs by the quintic Hermite polynomial of its cell (GridPhase), N
+// doubled until that is exact to 1e-12 (docs/dynamics.md, "What an evaluation costs"). A member
+// that does not vary keeps its coefficients at the cycle's mean (ConstantPhase).
 #include "common/errors.h"
 #include "common/fourier_series.h"
 #include "dynamics/mesh_force_law.h"
