@@ -7,10 +7,12 @@
 // c_j = F_j / a_j^p is the trigonometric interpolant of its S positions (exactly the series of a
 // ladder made from Fourier coefficients). Across the load, log F is the cubic spline of log a
 // through the rungs (X_j = log a_j, Y_j = log F_j; C2, so that an integrator's steps do not
-// shrink where the motion crosses a rung, and exact on a power law), its slope p at the lowest
-// rung, where the law continues below as F = c_0 a^p (the contact's own exponent down to first
-// touch), and its curvature zero at the top, where it continues as the power law of its end
-// slope (an extrapolation the analyses count, docs/dynamics.md). The spline is checked to grow
+// shrink where the motion crosses a rung, and exact on a power law), its curvature zero at the
+// top, where it continues as the power law of its end slope (an extrapolation the analyses count,
+// docs/dynamics.md). At the lowest rung the structural member's slope is 1 (linear below it down
+// to first touch); the Hertzian member's spline is natural there too and continues below as the
+// power law of its slope m_0 there, the FE's own exponent at light load, unless m_0 < 1 at some
+// phase (a softening contact), when it is clamped to n. The spline is checked to grow
 // at every phase (a ladder whose spline does not is refused).
 //
 // The coefficients X_j(theta) and the spline's slopes m_j(theta) of each member that varies over
@@ -54,8 +56,9 @@ namespace hertzgear::dynamics
     {
     public:
       LadderMember(const std::vector<double> &loads, const std::vector<std::vector<double>> &a,
-                   const double p, const bool varies)
+                   const double p, const bool varies, const bool natural_lower_end)
         : p(p)
+        , natural_low(natural_lower_end)
       {
         std::vector<FourierSeries> secants; // c_j(theta)
         for (std::size_t j = 0; j < loads.size(); ++j)
@@ -160,10 +163,14 @@ namespace hertzgear::dynamics
         double Yv = 0, dY_dX = 0, dY_dt = 0;
         if (k < 0)
           {
-            // Below the lowest rung: F = c_0 a^p.
-            Yv    = Y[0] + p * (X - xk1);
-            dY_dX = p;
-            dY_dt = rates ? -p * xr(ph, 0) : 0.0;
+            // Below the lowest rung: the power law of the spline's lowest slope m_0 (p when the
+            // end is clamped).
+            const double m  = lowest_slope(ph);
+            const double dX = X - xk1;
+            Yv              = Y[0] + m * dX;
+            dY_dX           = m;
+            if (rates)
+              dY_dt = (natural_low ? ph.rate(slope_index(0)) * dX : 0.0) - m * xr(ph, 0);
           }
         else if (k == J - 1)
           {
@@ -182,12 +189,15 @@ namespace hertzgear::dynamics
             const double      inv_D = 1.0 / D;
             const double      t     = (X - xk) * inv_D;
             const double      m0 = ph.value(slope_index(i)), m1 = ph.value(slope_index(i + 1));
-            const auto        h  = hermite(t);
-            Yv    = h[0] * Y[i] + h[2] * Y[i + 1] + D * (h[1] * m0 + h[3] * m1);
-            const double Yt = h[4] * Y[i] + h[6] * Y[i + 1] + D * (h[5] * m0 + h[7] * m1);
+            // The cubic in t in Horner form: Y_i + t (D m0 + t (c2 + t c3)).
+            const double dY = Y[i + 1] - Y[i], s0 = D * m0, s1 = D * m1;
+            const double c2 = 3.0 * dY - 2.0 * s0 - s1, c3 = s0 + s1 - 2.0 * dY;
+            Yv              = Y[i] + t * (s0 + t * (c2 + t * c3));
+            const double Yt = s0 + t * (2.0 * c2 + 3.0 * t * c3); // dY/dt
             dY_dX           = Yt * inv_D;
             if (rates)
               {
+                const auto   h  = hermite(t);
                 const double r0 = xr(ph, i), Dr = xr(ph, i + 1) - r0;
                 const double tr = -(r0 + t * Dr) * inv_D;
                 dY_dt = Yt * tr + Dr * (h[1] * m0 + h[3] * m1) +
@@ -205,7 +215,7 @@ namespace hertzgear::dynamics
         const std::size_t J  = Y.size();
         const double      Yt = std::log(F);
         if (Yt <= Y[0])
-          return std::exp(x(ph, 0) + (Yt - Y[0]) / p);
+          return std::exp(x(ph, 0) + (Yt - Y[0]) / lowest_slope(ph));
         if (Yt >= Y[J - 1])
           return std::exp(x(ph, J - 1) + (Yt - Y[J - 1]) / slope(ph, J - 1).m);
         const std::size_t k = static_cast<std::size_t>(
@@ -239,11 +249,11 @@ namespace hertzgear::dynamics
         const std::size_t J = Y.size();
         const double      X = std::log(a);
         const auto        F_at = [&](const double Xq) { return force(ph, std::exp(Xq), false).F; };
-        // Below the lowest rung F = c a^p: int = F a / (p + 1).
-        const double X0 = x(ph, 0);
+        // Below the lowest rung F = c a^m0: int = F a / (m0 + 1).
+        const double X0 = x(ph, 0), m0 = lowest_slope(ph);
         if (X <= X0)
-          return F_at(X) * a / (p + 1.0);
-        double E = std::exp(Y[0] + X0) / (p + 1.0);
+          return F_at(X) * a / (m0 + 1.0);
+        double E = std::exp(Y[0] + X0) / (m0 + 1.0);
         // Each rung interval in X (int F da = int F e^X dX), 5-point Gauss-Legendre.
         static constexpr std::array<double, 5> gx{-0.9061798459386640, -0.5384693101056831, 0.0,
                                                   0.5384693101056831, 0.9061798459386640};
@@ -293,6 +303,16 @@ namespace hertzgear::dynamics
         return -1;
       }
 
+      // Whether the spline's lowest end is natural (else clamped to p), and the switch to the
+      // clamped end.
+      bool natural_lower_end() const { return natural_low; }
+      void clamp_lower_end() { natural_low = false; }
+      // The spline's slope at the lowest rung at the phase of `taylor`.
+      double lowest_slope(const std::vector<double> &taylor) const
+      {
+        return taylor[3 * slope_index(0)];
+      }
+
     private:
       struct Slope
       {
@@ -319,12 +339,19 @@ namespace hertzgear::dynamics
       // Where X_j and m_j lie among the member's coefficients.
       static unsigned x_index(const std::size_t j) { return static_cast<unsigned>(2 * j); }
       static unsigned slope_index(const std::size_t k) { return static_cast<unsigned>(2 * k + 1); }
+      // The slope of the power law below the lowest rung.
+      template <class Phase>
+      double lowest_slope(const Phase &ph) const
+      {
+        return natural_low ? ph.value(slope_index(0)) : p;
+      }
       // The Taylor triples of the Hermite slopes m_j in (X, Y) from those of X_j: the cubic
-      // spline through the rungs (C2), its slope at the lowest rung the contact's own exponent p
-      // (clamped), its curvature at the top zero (natural: C2 into the straight-line
-      // extrapolation above). With g_i = 1 / (X_{i+1} - X_i) the slopes solve the tridiagonal
+      // spline through the rungs (C2), its curvature at the top zero (natural: C2 into the
+      // straight-line extrapolation above) and at the lowest rung either zero too (natural) or its
+      // slope p (clamped). With g_i = 1 / (X_{i+1} - X_i) the slopes solve the tridiagonal
       //   g_{i-1} m_{i-1} + 2 (g_{i-1} + g_i) m_i + g_i m_{i+1} = 3 (dY_{i-1} g_{i-1}^2 + dY_i g_i^2),
-      // m_0 = p and g_{J-2} m_{J-2} + 2 g_{J-2} m_{J-1} = 3 dY_{J-2} g_{J-2}^2; their derivatives
+      // 2 g_0 m_0 + g_0 m_1 = 3 dY_0 g_0^2 (natural) or m_0 = p (clamped), and
+      // g_{J-2} m_{J-2} + 2 g_{J-2} m_{J-1} = 3 dY_{J-2} g_{J-2}^2; their derivatives
       // in the mesh angle solve A m' = r' - A' m and A m'' = r'' - A'' m - 2 A' m' with the same
       // matrix.
       void slopes(double *taylor) const
@@ -348,9 +375,20 @@ namespace hertzgear::dynamics
         std::array<double, max_rungs> l[3], d[3], u[3], r[3];
         for (int o = 0; o < 3; ++o)
           {
-            l[o][0] = u[o][0] = 0.0;
-            d[o][0]           = o == 0 ? 1.0 : 0.0;
-            r[o][0]           = o == 0 ? p : 0.0;
+            if (natural_low && J > 1)
+              {
+                // 2 g_0 m_0 + g_0 m_1 = 3 dY_0 g_0^2.
+                l[o][0] = 0.0;
+                d[o][0] = 2.0 * g[o][0];
+                u[o][0] = g[o][0];
+                r[o][0] = 3.0 * (Y[1] - Y[0]) * G[o][0];
+              }
+            else
+              {
+                l[o][0] = u[o][0] = 0.0;
+                d[o][0]           = o == 0 ? 1.0 : 0.0;
+                r[o][0]           = o == 0 ? p : 0.0;
+              }
             for (std::size_t i = 1; i < J; ++i)
               {
                 const bool last = i + 1 == J;
@@ -451,6 +489,7 @@ namespace hertzgear::dynamics
       std::vector<double>        constant_x;  // X_j at the mean coefficients
       unsigned                   harmonics = 0;
       double                     p;
+      bool                       natural_low; // the spline's lowest end natural, else clamped to p
     };
 
     // The interpolation over the mesh cycle: N nodes theta_i = i h, h = 2 pi / N, at each the
@@ -541,9 +580,10 @@ namespace hertzgear::dynamics
                const bool hertz_varies)
         : n(table.hertz_exponent)
         , J(static_cast<unsigned>(table.ladder.n_rungs()))
-        , structural(table.ladder.load_N, structural_part(table.ladder), 1.0, structural_varies)
+        , structural(table.ladder.load_N, structural_part(table.ladder), 1.0, structural_varies,
+                     false)
         , hertz(table.ladder.load_N, table.ladder.hertz_approach_m, table.hertz_exponent,
-                hertz_varies)
+                hertz_varies, true)
         , top(table.ladder.load_N.back())
       {
         // The interpolants between positions must keep every rung's compression growing with
@@ -551,6 +591,16 @@ namespace hertzgear::dynamics
         // S / 2, so this samples each at 16 points per period of the highest).
         const std::size_t   S = table.ladder.n_positions(), n_check = 8 * S;
         std::vector<double> taylor(per_member());
+        // The Hertzian spline's lowest end is natural when its slope there, the exponent the
+        // layer continues with down to first touch, is at least 1 at every phase (a contact
+        // that does not soften); else it is clamped to n.
+        for (std::size_t i = 0; i < n_check && hertz.natural_lower_end(); ++i)
+          {
+            const double theta = 2.0 * M_PI * double(i) / n_check;
+            hertz.phase_coefficients(std::cos(theta), std::sin(theta), taylor.data());
+            if (!(hertz.lowest_slope(taylor) >= 1.0))
+              hertz.clamp_lower_end();
+          }
         for (const auto *m : {&structural, &hertz})
           {
             const char *member = m == &structural ? "structural" : "Hertzian";

@@ -574,71 +574,29 @@ TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnADistributedSector)
 // Requirement: the FE force law's static equilibrium is the FE's at and between the rungs of the
 // default ladder (expect_static_consistency, tests/support/stiffness_checks.h), on the uncrowned
 // pair at the coarse FE level (2D, level 0, linear elements, 5 positions, as the other cycle
-// tests). The crowned pair does not meet these bounds, at its coarse 3D level (4.6 % between
-// rungs) nor at the shipped level (4.2 %; ShippedTables.CrownedFeLawIsTheFeAtItsRungs): the FE's
-// own Hertzian part is not smooth in the load where the contact band moves across the grid. With
-// the load face band (Stiffness/contact_grid_face_extent = load) the coarse 3D level gives
-// 0.76 % in the approach and 0.92 % in the tangent: only the lowest midpoint (3.2 % of the
-// nominal load) misses 0.5 %, where the law's spline is clamped to the slope n = 1.5 at its
-// lowest rung while the FE's Hertzian part grows there as F^(1/1.7); at the shipped level 1.02 %
-// and 5.8 %, at the one position whose contact sits at the pinion tip
-// (ShippedTables.CrownedFeLawOnALoadFaceBandIsTheFeAtItsRungs, docs/theory-tca.md).
+// tests). Measured: 0.013 % of the approach and 0.73 % of the tangent between rungs.
 TEST(StiffnessCli, TheFeLawBetweenItsRungsIsTheFeAtThatLoad)
 {
   expect_static_consistency("paper_uncrowned.prm", coarse);
 }
 
-TEST(StiffnessCli, TheCrownedHertzianPartIsSmoothInTheLoadOnALoadFaceBand)
+// Requirement: the same on the crowned pair (3D point contact) at its coarse FE level (level 0,
+// linear elements, 5 positions, about a minute and a half) with the contact grid's face extent
+// following the load (Stiffness/contact_grid_face_extent = load, docs/theory-tca.md, "Face extent
+// of the grid"), which the stage reports in stiffness.json. Measured: 0.13 % of the approach and
+// 0.56 % of the tangent. On the whole face width the FE's own Hertzian part is not smooth in the
+// load where the contact spreads onto new face cells (its log-log slope 0.81-0.83, then 1.0-1.25,
+// then 0.42-0.43 over loads 2^(1/3) apart), and the same check gives 4.7 % and 3.5 %: this test
+// is what fails when the FE's stiffness has kinks between the rungs. At the shipped level the band
+// still leaves 1.2 % and 5.6 % at the one position whose contact sits at the pinion tip
+// (ShippedTables.CrownedFeLawOnALoadFaceBandIsTheFeAtItsRungs, docs/validation-force-law.md).
+TEST(StiffnessCli, TheCrownedFeLawBetweenItsRungsIsTheFeAtThatLoadOnALoadFaceBand)
 {
-  // Requirement: on the crowned pair (3D point contact) with the contact grid's face extent
-  // following the load (Stiffness/contact_grid_face_extent = load, docs/theory-tca.md, "Face
-  // extent of the grid"), the Hertzian part delta_h of the approach is smooth in the load: over
-  // loads 2^(1/3) apart from 2 to 203 % of the nominal, the log-log slope d log delta_h / d log F
-  // changes between neighbouring intervals by at most 0.04 at every position. Over the whole face
-  // width (the default) the same run jumps by 0.58-0.83 where the contact spreads onto new face
-  // cells (the slope 0.81-0.83, then 1.0-1.25, then 0.42-0.43); 0.04 is the step-to-step scatter of
-  // a whole-face grid of 64 cells, which still crosses the contact's edges at a quarter of the cell
-  // size; measured on the load band 0.016-0.022, where the slope itself drifts from 0.60 to 0.43.
-  // Coarse 3D: level 0, linear elements, 5 positions, about a minute.
-  std::vector<double> percent;
-  std::string         list;
-  for (int k = 0; k <= 20; ++k)
-    {
-      percent.push_back(2.0 * std::pow(2.0, k / 3.0));
-      list += (k ? "," : "") + std::to_string(percent.back());
-    }
-  const fs::path dir = fresh_temp_dir("stiffness_load_face_band");
-  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_crowned.prm") + coarse +
-                               " --set Stiffness/contact_grid_face_extent=load"
-                               " --set Output/write_fields=false --set Stiffness/Map/torque_percent=" +
-                               list + " --out " + dir.string());
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto json = nlohmann::json::parse(slurp(dir / "stiffness.json"));
+  fs::path rungs;
+  expect_static_consistency("paper_crowned.prm", coarse + " --set Stiffness/contact_grid_face_extent=load",
+                            true, &rungs);
+  const auto json = nlohmann::json::parse(slurp(rungs / "stiffness.json"));
   EXPECT_EQ(json["fe"]["contact_grid"]["face_extent"], "load");
-  double worst = 0.0;
-  for (std::size_t s = 0; s < 5; ++s)
-    {
-      std::vector<double> hertz; // case c: the load of percent[c]
-      for (std::size_t c = 0; c < percent.size(); ++c)
-        {
-          const auto rows = csv_rows(dir / "stiffness_map.csv", int(c));
-          ASSERT_EQ(rows.size(), 5u);
-          hertz.push_back(column(rows[s], 9)); // hertz_penetration_um
-        }
-      const auto &load = percent;
-      std::vector<double> slope;
-      for (std::size_t c = 0; c + 1 < load.size(); ++c)
-        slope.push_back(std::log(hertz[c + 1] / hertz[c]) / std::log(load[c + 1] / load[c]));
-      for (std::size_t c = 0; c + 1 < slope.size(); ++c)
-        {
-          const double change = std::abs(slope[c + 1] - slope[c]);
-          worst               = std::max(worst, change);
-          EXPECT_LT(change, 0.04) << "position " << s << ", between " << load[c] << ", " << load[c + 1]
-                                  << " and " << load[c + 2] << " % of the load: slopes " << slope[c] << ", "
-                                  << slope[c + 1];
-        }
-    }
-  std::cout << "largest change of the Hertzian part's log-log slope: " << worst << std::endl;
 }
 
 TEST(StiffnessCli, TheLoadLadderIsTheCycleAtEachLoadAndDrivesTheFeForceLaw)

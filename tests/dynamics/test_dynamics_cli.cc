@@ -170,13 +170,12 @@ TEST(DynamicsCli, ResponseFollowsTheOrbitsThroughTheirFolds)
 
 // Requirement: continuation from either end of the range finds the same folds, to 1e-8
 // relative, on both force laws (the crowned pair's FE table with its load ladder, 10000-18000 rpm:
-// the serial law's folds at 15143.57 and 16022.68 rpm, the FE law's at 13333.81 and 15802.68),
+// the serial law's folds at 15143.57 and 16022.68 rpm, the FE law's at 13333.53 and 15802.82),
 // and each is a fold: a Floquet multiplier within 1e-4 of 1 at it (the continuation's own test). The folds are located to 1e-6
 // of a step, their orbits corrected to a tenth of the Newton tolerance, and the period map is
 // integrated at Response/relative_tolerance 1e-10; measured from the two ends: 3.2e-12 and
-// 2.9e-13 (serial), 1.8e-9 and 6.1e-11 (FE law: its low fold, on the contact-losing branch where
-// two switchings come close together, is the least sharp; with the branch's own Newton tolerance
-// at the located points it was 1.4e-8).
+// 2.9e-13 (serial), 1.0e-9 and 1.0e-11 (FE law: its low fold, on the contact-losing branch where
+// two switchings come close together, is the least sharp).
 TEST(DynamicsCli, ResponseFindsTheSameFoldsFromEitherEnd)
 {
   const std::string table = std::string(HERTZGEAR_SOURCE_DIR) + "/data/scenes/paper_crowned_table.prm";

@@ -3,7 +3,8 @@
 //   forces, derivatives, static compressions and the dynamics of an orbit;
 // - at every rung and position it reproduces the ladder (the static equilibrium of the FE);
 // - it is monotone and C2 in the compression, its derivatives are those of its forces, and
-//   below the lowest rung it follows the contact's own exponent;
+//   below the lowest rung the structure is linear and the layer continues its spline's slope
+//   (clamped to n where that would soften the contact);
 // - a ladder it cannot serve is refused, naming the position and load.
 #include "dynamics/mesh_force_law.h"
 #include "dynamics/periodic_orbit.h"
@@ -141,8 +142,8 @@ TEST(FeMapLaw, ReproducesTheLadderAtEveryRungAndPosition)
 // Requirement: the law's derivatives in the compressions and in time are those of its forces
 // (central differences, as for the serial law: step 1e-4 relative, truncation ~1e-8, 1e-6
 // bounds it), inside the ladder, below and above it; and it is C2 across the inner rungs and the
-// top (so that an integrator's error estimate does not see the rungs): value and slope on either
-// side of a rung (1e-9 of the compression away) agree to 1e-6 relative (the slope's change over
+// top, and the Hertzian member across its lowest rung too (so that an integrator's error
+// estimate does not see the rungs): value and slope on either side of a rung (1e-9 of the compression away) agree to 1e-6 relative (the slope's change over
 // that step is ~1e-9 of it; a kink would differ by the secants' ratio), and so do the one-sided
 // differences of the slope, (dF/da(a (1 + 2e)) - dF/da(a (1 + e))) / (a e) and its mirror,
 // e = 1e-6: C2 leaves them apart by the truncation ~3 e a F'''/F'', at most 1.0e-4 of F'' here
@@ -195,8 +196,9 @@ TEST(FeMapLaw, DerivativesAreThoseOfTheForcesAndTheLawIsC2AcrossRungs)
           EXPECT_LT(rel(above.structural_du, below.structural_du), 1e-6) << F;
           EXPECT_LT(rel(above.hertz_ddelta, below.hertz_ddelta), 1e-6) << F;
           EXPECT_LT(rel(above.structural, below.structural), 1e-8) << F;
-          if (F == t.ladder.load_N.front())
-            continue; // the lowest rung: p below it, the spline's curvature above (C1)
+          // At the lowest rung only the Hertzian spline, natural there, is C2 (the structural
+          // one is clamped to p = 1: C1).
+          const bool lowest = F == t.ladder.load_N.front();
           const auto slopes = [&](const double f) {
             MeshLawForces m;
             law->evaluate(at.phase, u * f, d * f, m);
@@ -205,7 +207,7 @@ TEST(FeMapLaw, DerivativesAreThoseOfTheForcesAndTheLawIsC2AcrossRungs)
           constexpr double e  = 1e-6;
           const auto       s2 = slopes(1 + 2 * e), s1 = slopes(1 + e);
           const auto       s_1 = slopes(1 - e), s_2 = slopes(1 - 2 * e);
-          for (int i = 0; i < 2; ++i)
+          for (int i = lowest ? 1 : 0; i < 2; ++i)
             {
               const double a               = i == 0 ? u : d;
               const double above_curvature = (s2[i] - s1[i]) / (a * e);
@@ -245,10 +247,16 @@ TEST(FeMapLaw, ForceGrowsStrictlyWithTheCompression)
     }
 }
 
-// Requirement: below the lowest rung each member follows its contact's own exponent down to
-// first touch (structural 1, Hertzian n): F(a / 2) / F(a) = 2^-p to rounding (1e-12). Above the
-// top the law is the power law of the spline's end slope and says where its data end.
-TEST(FeMapLaw, BelowTheLowestRungTheContactsOwnExponent)
+// Requirement: below the lowest rung the structure is linear down to first touch, F(a / 2) /
+// F(a) = 1/2, and the Hertzian layer continues as the power law of its spline's slope at the
+// lowest rung (natural end): F(a / 2) / F(a) = 2^-m0 with m0 the slope d log F / d log a just
+// above the rung (one-sided difference over 1e-7 in log a: truncation ~1e-7 m0'' ~ 1e-9, rounding
+// ~1e-16 / 1e-7; 1e-7 bounds both); here m0 = 1/(1/1.5 + 0.05) = 1.395, not n = 1.5: the
+// ladder's Hertzian part is the power law F^(1/1.5 + 0.05) (nonlinear_table), on which the natural
+// spline is exact (1e-6 leaves room for the difference's truncation and rounding). A ladder whose natural slope would fall below 1 (a
+// softening contact, F^(1/0.9) here) has its end clamped to n: 2^-1.5 to rounding (1e-12).
+// Above the top the law is the power law of the spline's end slope and says where its data end.
+TEST(FeMapLaw, BelowTheLowestRungTheStructureIsLinearAndTheLayerContinuesItsSpline)
 {
   const auto    t   = nonlinear_table();
   const auto    law = fe_map_law(t, true, true);
@@ -259,9 +267,40 @@ TEST(FeMapLaw, BelowTheLowestRungTheContactsOwnExponent)
   law->evaluate(at.phase, u0, d0, f);
   law->evaluate(at.phase, 0.5 * u0, 0.5 * d0, g);
   EXPECT_NEAR(g.structural / f.structural, 0.5, 1e-12);
-  EXPECT_NEAR(g.hertz / f.hertz, std::pow(0.5, 1.5), 1e-12);
+  // The Hertzian compression of the lowest rung at this phase (bisection on the monotone force).
+  const double F_low = t.ladder.load_N.front();
+  double       lo = 0.0, hi = 1e-3;
+  for (int it = 0; it < 200; ++it)
+    {
+      MeshLawForces m;
+      law->evaluate(at.phase, 0.0, 0.5 * (lo + hi), m);
+      (m.hertz < F_low ? lo : hi) = 0.5 * (lo + hi);
+    }
+  MeshLawForces r0, r1;
+  law->evaluate(at.phase, 0.0, hi, r0);
+  law->evaluate(at.phase, 0.0, hi * std::exp(1e-7), r1);
+  const double m0 = std::log(r1.hertz / r0.hertz) / 1e-7;
+  EXPECT_NEAR(m0, 1.0 / (1.0 / 1.5 + 0.05), 1e-6); // the ladder's own exponent (a power law)
+  EXPECT_NEAR(std::log(g.hertz / f.hertz) / std::log(0.5), m0, 1e-7);
   EXPECT_EQ(law->tabulated_force_limit(), t.ladder.load_N.back());
   EXPECT_TRUE(std::isinf(serial_hertz_law(t)->tabulated_force_limit()));
+
+  auto soft = serial_table(1.5);
+  soft.ladder = serial_law_ladder(soft, ladder_loads(F0), 16, F0);
+  for (std::size_t j = 0; j < soft.ladder.n_rungs(); ++j)
+    for (std::size_t s = 0; s < soft.ladder.n_positions(); ++s)
+      {
+        const double u = soft.ladder.approach_m[j][s] - soft.ladder.hertz_approach_m[j][s];
+        soft.ladder.hertz_approach_m[j][s] =
+          soft.ladder.hertz_approach_m[j][s] * std::pow(soft.ladder.load_N[j] / F0, 1.0 / 0.9 - 1.0 / 1.5);
+        soft.ladder.approach_m[j][s] = u + soft.ladder.hertz_approach_m[j][s];
+      }
+  const auto    clamped = fe_map_law(soft, true, true);
+  const PhaseAt sat(*clamped, 1.1);
+  clamped->static_compressions(0.01 * F0, u0, d0);
+  clamped->evaluate(sat.phase, u0, d0, f);
+  clamped->evaluate(sat.phase, 0.5 * u0, 0.5 * d0, g);
+  EXPECT_NEAR(g.hertz / f.hertz, std::pow(0.5, 1.5), 1e-12);
 }
 
 // Requirement (bad input): a table without a ladder, a ladder that does not grow with the load

@@ -87,7 +87,8 @@ namespace hertzgear::testing
   // The requirements below, on one paper pair at the FE level `settings` chooses (scene values);
   // without `between_rungs` (2) and (3) are measured and printed, not required.
   inline void expect_static_consistency(const std::string &scene_name, const std::string &settings,
-                                        const bool between_rungs = true)
+                                        const bool between_rungs = true,
+                                        fs::path *rungs_dir = nullptr)
   {
     // Requirements (static consistency of the FE force law with the FE): the law's static
     // equilibrium -- structural and Hertzian members each carrying the applied load F -- at every
@@ -104,6 +105,8 @@ namespace hertzgear::testing
     const auto        a      = run_hertzgear("stiffness " + scene_path(scene_name) + settings +
                                  fe_law + " --set Output/write_fields=false --out " + rungs.string());
     ASSERT_EQ(a.exit_code, 0) << a.err;
+    if (rungs_dir)
+      *rungs_dir = rungs; // the default ladder's run, for the caller's own checks
     const auto table = hertzgear::table::read_stiffness_table(rungs / "stiffness.json");
     const auto &l    = table.ladder;
     ASSERT_GE(l.n_rungs(), 10u); // the default ladder
@@ -158,6 +161,8 @@ namespace hertzgear::testing
     // (2), (3) Between them: the midpoint ladder's rungs and the map's tangents (case c: the
     // midpoint c; map rows: case, ..., then the cycle's columns, k_total_tangent the 13th).
     double approach_error = 0.0, hertz_error = 0.0, tangent_error = 0.0;
+    std::string approach_at, hertz_at, tangent_at; // where each largest error lies
+    std::vector<double> position_approach(S, 0.0), position_tangent(S, 0.0);
     for (std::size_t c = 0; c < mid_percent.size(); ++c)
       {
         const double F = l.nominal_load_N * mid_percent[c] / 100.0;
@@ -184,13 +189,24 @@ namespace hertzgear::testing
                 EXPECT_LT(e_k, 1e-2) << "load " << F << " N, position " << s << ": law " << k
                                      << ", FE " << fe_k;
               }
-            approach_error = std::max(approach_error, e_a);
-            hertz_error    = std::max(hertz_error, e_h);
-            tangent_error  = std::max(tangent_error, e_k);
+            position_approach[s] = std::max(position_approach[s], e_a);
+            position_tangent[s]  = std::max(position_tangent[s], e_k);
+            std::ostringstream at;
+            at << " (" << F << " N, position " << s << ")";
+            if (e_a > approach_error)
+              approach_error = e_a, approach_at = at.str();
+            if (e_h > hertz_error)
+              hertz_error = e_h, hertz_at = at.str();
+            if (e_k > tangent_error)
+              tangent_error = e_k, tangent_at = at.str();
           }
       }
     std::cout << scene_name << ": FE law against the FE: at the rungs " << rung_error << ", between them: approach "
-              << approach_error << ", its Hertzian part " << hertz_error << " (of the approach), "
-              << "tangent " << tangent_error << " (largest relative errors)" << std::endl;
+              << approach_error << approach_at << ", its Hertzian part " << hertz_error << hertz_at
+              << " (of the approach), tangent " << tangent_error << tangent_at
+              << " (largest relative errors)" << std::endl;
+    for (std::size_t s = 0; s < S; ++s)
+      std::cout << "  position " << s << ": approach " << position_approach[s] << ", tangent "
+                << position_tangent[s] << std::endl;
   }
 } // namespace hertzgear::testing
