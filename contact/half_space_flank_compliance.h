@@ -1,27 +1,29 @@
 #pragma once
 #include "contact/half_space.h"
 #include "contact/mesh_cycle.h"
+#include "meshing/flank_surface.h"
 
 namespace hertzgear::contact
 {
   // A body whose structural compliance at the reference depth is the half-space's: the
   // displacement at depth d below flank point `reading` of a unit force spread uniformly over
   // the TCA grid cell centred at flank point `load` (Boussinesq-Love, exact), at their offset
-  // in the developed flank (developed_offset_mm).
+  // in the developed flank (FlankSurface::developed_offset_mm). `flank` views a GearGeometry
+  // that must outlive this body.
   class HalfSpaceFlankCompliance : public FlankCompliance
   {
   public:
     HalfSpaceFlankCompliance(const Material &material, const double depth_mm,
-                             const double base_radius_mm, const double half_cell_u_mm,
+                             const meshing::FlankSurface &flank, const double half_cell_u_mm,
                              const double half_cell_z_mm)
-      : material(material), depth(depth_mm), r_b(base_radius_mm), hu(half_cell_u_mm)
+      : material(material), depth(depth_mm), flank(flank), hu(half_cell_u_mm)
       , hz(half_cell_z_mm)
     {}
     double compliance_mm_per_N(const FlankPoint &reading, const FlankPoint &load) const override
     {
       if (reading.tooth != load.tooth)
         return 0.0;
-      const Eigen::Vector2d offset = developed_offset_mm(reading, load, r_b);
+      const Eigen::Vector2d offset = flank.developed_offset_mm(reading, load);
       return half_space::rectangle_displacement_at_depth(offset.x(), offset.y(), depth, hu, hz,
                                                          1.0 / (4.0 * hu * hz),
                                                          material.youngs_modulus_MPa,
@@ -30,7 +32,9 @@ namespace hertzgear::contact
     double reference_depth_mm() const override { return depth; }
 
   private:
-    Material material;
-    double            depth, r_b, hu, hz;
+    Material              material;
+    double                depth;
+    meshing::FlankSurface flank;
+    double                hu, hz;
   };
 } // namespace hertzgear::contact

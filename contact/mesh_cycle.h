@@ -16,6 +16,7 @@
 #include "contact/contact_solver.h"
 #include "common/fourier_series.h"
 #include "common/material.h"
+#include "meshing/flank_point.h"
 #include "meshing/pair_kinematics.h"
 
 #include <Eigen/Dense>
@@ -27,26 +28,9 @@
 
 namespace hertzgear::contact
 {
-  // A material point of a drive flank: tooth index relative to the tooth of pair 0 (pair j uses
-  // pinion tooth +j and gear tooth -j), roll distance from the body's own base tangent point
-  // (the involute parameter r_b u, i.e. the radius of curvature there) and face position
-  // (0 = mid-face).
-  struct FlankPoint
-  {
-    int    tooth   = 0;
-    double roll_mm = 0;
-    double z_mm    = 0;
-  };
-
-  // Offset of flank point a from flank point b of one flank in its developed surface [mm]:
-  // across the profile the involute arc length between the roll distances, (s_a^2 - s_b^2) /
-  // (2 r_b) (the arc length from the base circle is s^2 / (2 r_b)); along the face z_a - z_b.
-  inline Eigen::Vector2d developed_offset_mm(const FlankPoint &a, const FlankPoint &b,
-                                             const double base_radius_mm)
-  {
-    return {(a.roll_mm * a.roll_mm - b.roll_mm * b.roll_mm) / (2.0 * base_radius_mm),
-            a.z_mm - b.z_mm};
-  }
+  // A material point of a drive flank (meshing/flank_point.h); offsets between two of them in
+  // the developed flank: meshing::FlankSurface::developed_offset_mm.
+  using meshing::FlankPoint;
 
   // Structural compliance of one body between its flank points: displacement [mm] of `reading`,
   // taken at the reference depth below the flank and along the inward flank normal, per unit

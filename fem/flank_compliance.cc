@@ -20,7 +20,7 @@ namespace hertzgear::fem
                                                           const meshing::GearGeometry &gear,
                                                           const int                  central_tooth,
                                                           const FlankTableSettings  &settings)
-    : geometry(&gear), settings(settings)
+    : geometry(&gear), flank(gear.flank()), settings(settings)
   {
     (void)central_tooth; // the body frame already centres the central tooth on +x
     std::vector<PatchLoad<dim>>    loads;
@@ -40,7 +40,7 @@ namespace hertzgear::fem
                                                           const double poisson_ratio,
                                                           const meshing::GearGeometry &gear,
                                                           const FlankTableSettings  &settings)
-    : geometry(&gear), settings(settings)
+    : geometry(&gear), flank(gear.flank()), settings(settings)
   {
     set_up_nodes(nullptr, nullptr);
     HG_REQUIRE_INPUT(raw.rows() == static_cast<Eigen::Index>(node_points.size()) &&
@@ -115,7 +115,7 @@ namespace hertzgear::fem
   double TabulatedFlankCompliance<dim>::flank_distance_mm(const FlankPoint &a,
                                                           const FlankPoint &b) const
   {
-    const Eigen::Vector2d offset = developed_offset_mm(a, b, geometry->base_radius_mm());
+    const Eigen::Vector2d offset = flank.developed_offset_mm(a, b);
     return std::hypot(offset.x(), offset.y());
   }
 
@@ -132,15 +132,28 @@ namespace hertzgear::fem
   typename ElasticBody<dim>::PatchLoad
   TabulatedFlankCompliance<dim>::patch_load(const FlankPoint &f) const
   {
-    const double    r_b   = geometry->base_radius_mm();
     const double    pitch = 2.0 * M_PI / geometry->n_teeth();
-    const double    u     = f.roll_mm / r_b;
-    Eigen::Vector2d p     = geometry->involute_point(u);
-    Eigen::Vector2d n     = geometry->involute_normal(u);
-    // The modified flank (crowning, tip relief) lies Delta inside the nominal one.
-    p -= (dim == 3 ? geometry->modification_mm(f.roll_mm, f.z_mm) : geometry->tip_relief_mm(f.roll_mm)) * n;
-    const Eigen::Vector2d pr = meshing::GearGeometry::rotate(p, f.tooth * pitch);
-    const Eigen::Vector2d nr = meshing::GearGeometry::rotate(n, f.tooth * pitch);
+    // The modified flank (micro-geometry) lies Delta inside the nominal one. 3D: the flank
+    // surface; 2D: the transverse involute with the tip relief only.
+    Eigen::Vector3d p, n;
+    if constexpr (dim == 3)
+      {
+        n = flank.normal(f.roll_mm, f.z_mm);
+        p = flank.modified_point(f.roll_mm, f.z_mm);
+      }
+    else
+      {
+        const double    r_b = geometry->base_radius_mm();
+        const double    u   = f.roll_mm / r_b;
+        Eigen::Vector2d p2  = geometry->involute_point(u);
+        Eigen::Vector2d n2  = geometry->involute_normal(u);
+        p2 -= geometry->tip_relief_mm(f.roll_mm) * n2;
+        p << p2, 0.0;
+        n << n2, 0.0;
+      }
+    // Tooth f.tooth: the flank of tooth 0 turned about the axis.
+    const Eigen::Vector2d pr = meshing::GearGeometry::rotate(p.head<2>(), f.tooth * pitch);
+    const Eigen::Vector2d nr = meshing::GearGeometry::rotate(n.head<2>(), f.tooth * pitch);
     typename ElasticBody<dim>::PatchLoad load;
     for (unsigned int c = 0; c < 2; ++c)
       {
@@ -148,7 +161,10 @@ namespace hertzgear::fem
         load.direction[c] = -nr[c];
       }
     if constexpr (dim == 3)
-      load.centre[2] = f.z_mm;
+      {
+        load.centre[2]    = p.z();
+        load.direction[2] = 0.0 - n.z(); // +0, not -0, for a spur flank (n.z() = +0)
+      }
     load.radius = settings.patch_radius_mm;
     return load;
   }

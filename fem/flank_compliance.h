@@ -17,10 +17,12 @@
 // K_d the half-space displacement at depth d under the same patch (half_space::PatchLoadKernel),
 // interpolates R, and adds K_d back at the exact distance between the reading and the load: the
 // nodes can then be spaced by the smooth remainder, not by d. Distances are measured in the
-// flank's developed surface (involute arc length across the profile, z along the face).
+// flank's developed surface (FlankSurface::developed_offset_mm; for a spur flank the involute arc
+// length across the profile and z along the face).
 #include "fem/elastic_body.h"
 #include "contact/half_space.h"
 #include "contact/mesh_cycle.h"
+#include "meshing/flank_surface.h"
 #include "meshing/gear_geometry.h"
 
 #include <Eigen/Dense>
@@ -30,7 +32,6 @@
 
 namespace hertzgear::fem
 {
-  using contact::developed_offset_mm;
   using contact::FlankCompliance;
   using contact::FlankPoint;
 
@@ -81,6 +82,7 @@ namespace hertzgear::fem
 
   private:
     const meshing::GearGeometry *geometry = nullptr; // must outlive the table
+    meshing::FlankSurface        flank;              // of *geometry
     FlankTableSettings  settings;
     std::vector<double> roll_nodes, face_nodes;
     double              scale = 1; // 1/b in 2D

@@ -79,9 +79,9 @@ namespace hertzgear::fem
       const contact::MeshCycle rigid_cycle(kin, b1, b2, rigid_body, rigid_body, cs);
       const double w     = rigid_cycle.band_half_width(f.load);
       const double face  = std::min(kin.pinion().face_width_mm(), kin.gear().face_width_mm());
-      const contact::HalfSpaceFlankCompliance hs1(b1, depth, kin.pinion().base_radius_mm(),
+      const contact::HalfSpaceFlankCompliance hs1(b1, depth, kin.pinion().flank(),
                                          w / cs.profile_cells, 0.5 * face / cs.face_cells);
-      const contact::HalfSpaceFlankCompliance hs2(b2, depth, kin.gear().base_radius_mm(),
+      const contact::HalfSpaceFlankCompliance hs2(b2, depth, kin.gear().flank(),
                                          w / cs.profile_cells, 0.5 * face / cs.face_cells);
       const contact::MeshCycle cycle(kin, b1, b2, hs1, hs2, cs);
       const double tau = (C.roll_distance_mm - kin.point('A').roll_distance_mm) / kin.base_pitch_mm();

@@ -5,6 +5,7 @@
 #include "common/atomic_file.h"
 #include "common/errors.h"
 #include "meshing/field_names.h"
+#include "meshing/flank_surface.h"
 
 #include <Eigen/Geometry>
 #include <gmsh.h>
@@ -372,6 +373,10 @@ namespace hertzgear::meshing
     HG_REQUIRE_INPUT(settings.dimension == 2 || settings.dimension == 3,
                      "mesh dimension must be 2 or 3, not ", settings.dimension);
     HG_REQUIRE_INPUT(settings.teeth_per_sector >= 1, "teeth per sector must be >= 1");
+    // The 3D body is the transverse section extruded straight along the axis: a spur body.
+    HG_REQUIRE_INPUT(settings.dimension == 2 || gear.helix_angle_rad() == 0, gear.parameters().name,
+                     ": helix angle ", gear.helix_angle_rad() * 180 / pi,
+                     " deg: 3D meshes of helical gears are not supported yet");
     HG_REQUIRE_INPUT(settings.refinement_level >= 0 && settings.refinement_level <= 6,
                      "mesh refinement level ", settings.refinement_level, " is outside 0..6");
 
@@ -431,6 +436,7 @@ namespace hertzgear::meshing
                  r_f = gear.root_radius_mm(), r_a = gear.tip_radius_mm();
     const double half_pitch = 0.5 * gear.angular_pitch_rad();
     const double phi_F      = gear.flank_polar_angle_rad(r_F);
+    const FlankSurface flank = gear.flank();
     std::map<std::size_t, int> flank_side; // node tag -> +1 drive, -1 coast
     for (const auto &c : b.curves)
       if (c.role == Role::drive_flank || c.role == Role::coast_flank)
@@ -470,7 +476,7 @@ namespace hertzgear::meshing
           {
             const double z     = x.z();
             const double xi    = r_node >= r_F ? r_b * gear.roll_angle_at_radius(r_node) : 0.0;
-            const double delta = gear.modification_mm(xi, z);
+            const double delta = flank.transverse_removal_mm(xi, z);
             double       w     = 0; // -1 .. 1 across the tooth, 0 on the centre line
             if (r_node >= r_F)
               w = on_flank ? side->second : std::clamp(phi / gear.flank_polar_angle_rad(r_node), -1.0, 1.0);

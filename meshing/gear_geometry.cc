@@ -20,11 +20,29 @@ namespace hertzgear::meshing
     return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
   }
 
-  double pitch_radius_mm(const GearParameters &p) { return 0.5 * p.module_mm * p.teeth; }
+  double transverse_module_mm(const GearParameters &p)
+  {
+    return p.helix_angle_rad == 0 ? p.module_mm : p.module_mm / std::cos(p.helix_angle_rad);
+  }
+
+  double transverse_pressure_angle_rad(const GearParameters &p)
+  {
+    // atan(tan(alpha) / 1) need not return alpha to the last bit: spur skips the conversion.
+    return p.helix_angle_rad == 0 ?
+             p.pressure_angle_rad :
+             std::atan(std::tan(p.pressure_angle_rad) / std::cos(p.helix_angle_rad));
+  }
+
+  double base_helix_angle_rad(const GearParameters &p)
+  {
+    return std::asin(std::sin(p.helix_angle_rad) * std::cos(p.pressure_angle_rad));
+  }
+
+  double pitch_radius_mm(const GearParameters &p) { return 0.5 * transverse_module_mm(p) * p.teeth; }
 
   double base_radius_mm(const GearParameters &p)
   {
-    return pitch_radius_mm(p) * std::cos(p.pressure_angle_rad);
+    return pitch_radius_mm(p) * std::cos(transverse_pressure_angle_rad(p));
   }
 
   double root_radius_mm(const GearParameters &p)
@@ -54,6 +72,9 @@ namespace hertzgear::meshing
     HG_REQUIRE_INPUT(p.pressure_angle_rad > 0 && p.pressure_angle_rad < pi / 4, name,
                      ": pressure angle ", p.pressure_angle_rad * 180 / pi,
                      " deg is outside (0, 45) deg (", field(p, "pressure_angle_rad"), ")");
+    HG_REQUIRE_INPUT(p.helix_angle_rad >= 0 && p.helix_angle_rad < pi / 4, name, ": helix angle ",
+                     p.helix_angle_rad * 180 / pi, " deg is outside [0, 45) deg (",
+                     field(p, "helix_angle_rad"), ")");
     // A spur tooth narrower than half a module or wider than 50 modules is a plate or a
     // strip, not a gear tooth: the beam/plate assumptions behind every stiffness model fail.
     HG_REQUIRE_INPUT(p.face_width_mm >= 0.5 * p.module_mm && p.face_width_mm <= 50 * p.module_mm,
@@ -65,11 +86,17 @@ namespace hertzgear::meshing
                      ": cutter tip radius coefficient must be >= 0 (",
                      field(p, "cutter_tip_radius_coefficient"), ")");
 
-    const double m = p.module_mm, alpha = p.pressure_angle_rad, x = p.profile_shift_coefficient;
+    // The transverse section: module m_t, pressure angle alpha_t (exactly m and alpha_n for a
+    // spur gear); heights (addendum, dedendum, profile shift x m, the rack's round) stay normal
+    // ones. The transverse tooth thickness on the reference circle is m_t (pi/2 + 2 x tan(alpha_n))
+    // (ISO 21771:2007, 5.3), thinned by thickness_reduction_mm.
+    const double m = p.module_mm, alpha_n = p.pressure_angle_rad, x = p.profile_shift_coefficient;
+    m_t     = meshing::transverse_module_mm(p);
+    alpha_t = meshing::transverse_pressure_angle_rad(p);
     r     = meshing::pitch_radius_mm(p);
     r_b   = meshing::base_radius_mm(p);
-    s_ref = m * (0.5 * pi + 2 * x * std::tan(alpha)) - p.thickness_reduction_mm;
-    psi_b = s_ref / (2 * r) + involute(alpha);
+    s_ref = m_t * (0.5 * pi + 2 * x * std::tan(alpha_n)) - p.thickness_reduction_mm;
+    psi_b = s_ref / (2 * r) + involute(alpha_t);
     r_a   = p.tip_radius_mm > 0 ? p.tip_radius_mm : r + m * (p.addendum_coefficient + x);
     r_f   = meshing::root_radius_mm(p);
     HG_REQUIRE_INPUT(r_f > 0, name, ": absurd dimensions: root radius ", r_f,
@@ -79,13 +106,16 @@ namespace hertzgear::meshing
 
     // Generating rack, in the generation frame: gear centre at the origin, the rack's rolling
     // line tangent to the reference circle at y = r, the cutter tooth centred on x = 0 filling
-    // the tooth space. Its right flank x = e/2 + (y - r) tan(alpha) generates the +theta flank
-    // of the tooth to the right of the space. e = pi m - s is the space width on the reference
+    // the tooth space. Its right flank x = e/2 + (y - r) tan(alpha_t) generates the +theta flank
+    // of the tooth to the right of the space. e = pi m_t - s is the space width on the reference
     // circle, i.e. the cutter tooth thickness on its rolling line (thinning widens it).
+    // Helical: the rack's transverse section (pitch pi m_t, flank angle alpha_t); its tip round
+    // is taken as the circle of radius rho, while the true section of the round is an ellipse of
+    // semi-axes rho and rho / cos(beta): the fillet and the form radius are exact for spur only.
     rho            = p.cutter_tip_radius_coefficient * m;
-    const double e = pi * m - s_ref;
+    const double e = pi * m_t - s_ref;
     y_c            = r + x * m - p.dedendum_coefficient * m + rho;
-    x_c            = 0.5 * e + (y_c - r) * std::tan(alpha) - rho / std::cos(alpha);
+    x_c            = 0.5 * e + (y_c - r) * std::tan(alpha_t) - rho / std::cos(alpha_t);
     HG_REQUIRE_INPUT(x_c >= 0, name, ": cutter tip radius rho_fP = ",
                      p.cutter_tip_radius_coefficient, " m is too large for the rack's tip (the "
                      "rounds of both cutter flanks overlap; ",
@@ -97,14 +127,15 @@ namespace hertzgear::meshing
                      field(p, "profile_shift_coefficient"), ")");
     // The round touches the straight cutter flank at T; the involute starts where T is
     // generated, i.e. when T lies on the rack's line of action through the pitch point I.
-    const double y_T           = y_c - rho * std::sin(alpha);
-    const double roll_length_F = r * std::sin(alpha) - (r - y_T) / std::sin(alpha);
+    const double y_T           = y_c - rho * std::sin(alpha_t);
+    const double roll_length_F = r * std::sin(alpha_t) - (r - y_T) / std::sin(alpha_t);
     // Undercut: the generating flank reaches below the interference point (the base tangent
     // point of the line of action), i.e. the involute would have to start inside the base
-    // circle (ISO 21771:2007, 5.2; z_min = 2 (h_fP/m - rho (1 - sin a) / m - x) / sin^2 a).
+    // circle (ISO 21771:2007, 5.2; z_min = 2 cos(beta) (h_fP/m - rho (1 - sin a) / m - x) /
+    // sin^2 a with a = alpha_t).
     const double x_min =
-      (p.dedendum_coefficient - p.cutter_tip_radius_coefficient * (1 - std::sin(alpha))) -
-      0.5 * p.teeth * std::sin(alpha) * std::sin(alpha);
+      (p.dedendum_coefficient - p.cutter_tip_radius_coefficient * (1 - std::sin(alpha_t))) -
+      0.5 * p.teeth / std::cos(p.helix_angle_rad) * std::sin(alpha_t) * std::sin(alpha_t);
     HG_REQUIRE_INPUT(roll_length_F >= -1e-12 * m, name, ": undercut: ", p.teeth,
                      " teeth with profile shift x = ", x,
                      " are undercut by the cutter (the involute would start below the base "
@@ -113,7 +144,7 @@ namespace hertzgear::meshing
                      field(p, "teeth"), ")");
     u_F = std::max(0.0, roll_length_F) / r_b;
     r_F = r_b * std::sqrt(1 + u_F * u_F);
-    phi_form = (x_c - (r - y_c) / std::tan(alpha)) / r;
+    phi_form = (x_c - (r - y_c) / std::tan(alpha_t)) / r;
     phi_root = x_c / r;
 
     HG_REQUIRE_INPUT(r_a > r_F, name, ": tip radius ", r_a,
@@ -151,13 +182,15 @@ namespace hertzgear::meshing
                      " mm is larger than the flank allows: the reliefs at both face ends meet "
                      "beyond half the face width (", 0.5 * p.face_width_mm, " mm; ",
                      field(p, "lead_end_relief_length_mm"), ")");
-    // The modifications remove material normal to the flank; at the tip this thins the tooth by
-    // 2 Delta / cos(alpha_a) (an involute moved by Delta normal is the same involute turned by
-    // Delta / r_b). The corners at the face ends must keep the minimum top land.
+    // The modifications remove material normal to the flank, Delta / cos(beta_b) in the transverse
+    // section; at the tip this thins the tooth by 2 Delta / cos(beta_b) / cos(alpha_a) (an involute
+    // moved by Delta normal is the same involute turned by Delta / r_b). The corners at the face
+    // ends must keep the minimum top land.
     const double alpha_a = std::acos(r_b / r_a);
     const double removal = p.crowning_mm + p.tip_relief_mm + p.profile_crowning_mm +
                            p.lead_end_relief_mm + 0.5 * std::abs(p.helix_slope_deviation_mm);
-    const double s_a_mod = s_a - 2 * removal / std::cos(alpha_a);
+    const double cos_beta_b = std::cos(base_helix_angle_rad(p)); // exactly 1 for a spur gear
+    const double s_a_mod    = s_a - 2 * removal / cos_beta_b / std::cos(alpha_a);
     HG_REQUIRE_INPUT(s_a_mod >= limit, p.name, ": crowning ", p.crowning_mm * 1e3,
                      " um and tip relief ", p.tip_relief_mm * 1e3, " um",
                      (removal > p.crowning_mm + p.tip_relief_mm ?
@@ -187,7 +220,7 @@ namespace hertzgear::meshing
 
   double GearGeometry::base_pitch_mm() const
   {
-    return pi * params.module_mm * std::cos(params.pressure_angle_rad);
+    return pi * m_t * std::cos(alpha_t);
   }
 
   double GearGeometry::roll_angle_at_radius(const double radius) const

@@ -1,5 +1,6 @@
 #pragma once
-// Exact geometry of one spur gear cut by an ISO 53 basic rack (docs/geometry.md):
+// Exact geometry of one spur gear cut by an ISO 53 basic rack (docs/geometry.md), and the
+// transverse section of a helical one (its 3D flank: FlankSurface, meshing/flank_surface.h):
 //   - the involute flank,   theta(r) = psi_b - inv(alpha_r),  cos(alpha_r) = r_b / r,
 //   - the trochoidal fillet, the envelope of the round (radius rho_fP) of the cutting rack's tip
 //     rolling on the reference circle (an equidistant of the trochoid of the round's centre),
@@ -17,9 +18,16 @@
 
 namespace hertzgear::meshing
 {
+  // Transverse module m_t = m_n / cos(beta) and pressure angle tan(alpha_t) = tan(alpha_n) /
+  // cos(beta) (ISO 21771:2007, 4.3). A spur gear (beta = 0) keeps m_n and alpha_n as they are,
+  // not converted, so that its radii stay the same to the last bit.
+  double transverse_module_mm(const GearParameters &p);
+  double transverse_pressure_angle_rad(const GearParameters &p);
+  // Base helix angle beta_b, sin(beta_b) = sin(beta) cos(alpha_n).
+  double base_helix_angle_rad(const GearParameters &p);
   // The radii that follow from the parameters alone [mm], without the checks of GearGeometry (the
-  // one formula of each; GearGeometry uses them): pitch r = m z / 2, base r_b = r cos(alpha_P),
-  // root r_f = r + x m - h_fP of the generating rack.
+  // one formula of each; GearGeometry uses them): pitch r = m_t z / 2, base r_b = r cos(alpha_t),
+  // root r_f = r + x m_n - h_fP of the generating rack.
   double pitch_radius_mm(const GearParameters &p);
   double base_radius_mm(const GearParameters &p);
   double root_radius_mm(const GearParameters &p);
@@ -27,6 +35,10 @@ namespace hertzgear::meshing
   // root circle over the face width: I = rho b pi (r_f^4 - r_bore^4) / 2.
   double disc_inertia_kg_m2(const GearParameters &p, double density_kg_per_m3);
 
+  class FlankSurface;
+
+  // The transverse section of the gear (z = 0 of a helical gear): all radii, angles and thicknesses
+  // below are transverse; module_mm() and pressure_angle_rad() are the rack's (normal) ones.
   class GearGeometry
   {
   public:
@@ -39,15 +51,19 @@ namespace hertzgear::meshing
     double module_mm() const { return params.module_mm; }
     double pressure_angle_rad() const { return params.pressure_angle_rad; }
     double face_width_mm() const { return params.face_width_mm; }
+    double helix_angle_rad() const { return params.helix_angle_rad; }
+    double transverse_pressure_angle_rad() const { return alpha_t; }
+    // The drive flank as a 3D surface (a view of this geometry, which must outlive it).
+    FlankSurface flank() const;
 
-    double reference_radius_mm() const { return r; }  // r = m z / 2
-    double base_radius_mm() const { return r_b; }     // r_b = r cos(alpha)
+    double reference_radius_mm() const { return r; }  // r = m_t z / 2
+    double base_radius_mm() const { return r_b; }     // r_b = r cos(alpha_t)
     double tip_radius_mm() const { return r_a; }
     double root_radius_mm() const { return r_f; }     // r + x m - h_fP
     double form_radius_mm() const { return r_F; }     // where the fillet meets the involute
     double bore_radius_mm() const { return params.bore_radius_mm; }
     double angular_pitch_rad() const;                 // 2 pi / z
-    double base_pitch_mm() const;                     // p_b = pi m cos(alpha)
+    double base_pitch_mm() const;                     // p_b = pi m_t cos(alpha_t)
 
     // Half the angular tooth thickness on the base circle, psi_b = s/(2r) + inv(alpha), with s
     // the (thinned) circular tooth thickness on the reference circle.
@@ -108,6 +124,7 @@ namespace hertzgear::meshing
 
   private:
     GearParameters params;
+    double m_t = 0, alpha_t = 0; // transverse module and pressure angle
     double r = 0, r_b = 0, r_a = 0, r_f = 0, r_F = 0;
     double s_ref = 0, psi_b = 0, u_F = 0, u_a = 0;
     // Generating rack: centre of its tip round (x_c, y_c) in the generation frame, rolling

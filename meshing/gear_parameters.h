@@ -11,12 +11,25 @@ namespace hertzgear::meshing
     parabolic
   };
 
-  // One spur gear cut by an ISO 53 basic rack (generating rack = counterpart of the basic rack).
+  // Hand of a helical gear's teeth: right-handed like a screw thread (the section of a tooth
+  // turns counter-clockwise, seen from +z, as z grows) or left-handed. A pair meshes with
+  // opposite hands.
+  enum class HelixHand
+  {
+    right,
+    left
+  };
+
+  // One spur or helical gear cut by an ISO 53 basic rack (generating rack = counterpart of the
+  // basic rack). Module and pressure angle are those of the rack, i.e. normal values m_n, alpha_n
+  // of a helical gear (ISO 21771); for a spur gear (helix angle 0) they are also transverse.
   struct GearParameters
   {
     int    teeth                         = 0;
-    double module_mm                     = 0;
-    double pressure_angle_rad            = 0; // alpha_P of the basic rack
+    double module_mm                     = 0; // m_n
+    double pressure_angle_rad            = 0; // alpha_P = alpha_n of the basic rack
+    double helix_angle_rad               = 0; // beta at the reference circle, >= 0; 0 = spur
+    HelixHand hand                       = HelixHand::right; // ignored when beta = 0
     double face_width_mm                 = 0; // b
     double profile_shift_coefficient     = 0; // x
     double addendum_coefficient          = 1.0;  // h_aP / m (tip radius when tip_radius_mm = 0)

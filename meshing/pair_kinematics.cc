@@ -18,6 +18,13 @@ namespace hertzgear::meshing
   PairKinematics::PairKinematics(const PairParameters &parameters) : params(parameters)
   {
     GearParameters &p1 = params.pinion, &p2 = params.gear;
+    // The kinematics below (tight mesh, path of contact, one contact roll per pair, separations
+    // along the transverse line of action) are those of a spur pair.
+    for (const GearParameters *g : {&p1, &p2})
+      HG_REQUIRE_INPUT(g->helix_angle_rad == 0, g->name, ": helix angle ",
+                       g->helix_angle_rad * 180 / pi,
+                       " deg: helical pairs are not supported yet (only spur pairs, helix angle 0; ",
+                       field(*g, "helix_angle_rad"), ")");
     HG_REQUIRE_INPUT(std::abs(p1.module_mm - p2.module_mm) <= 1e-12 * p1.module_mm,
                      "impossible gear pair: pinion module ", p1.module_mm,
                      " mm differs from gear module ", p2.module_mm, " mm (", field(p1, "module_mm"),
