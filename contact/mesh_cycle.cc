@@ -94,6 +94,10 @@ namespace hertzgear::contact
     , compliances{&pinion_compliance, &gear_compliance}
     , settings(settings)
   {
+    // The gaps, contact grid and loads below are measured along one contact roll per pair in
+    // the transverse section: a spur pair's mesh cycle.
+    meshing::require_spur_pair(kinematics.pinion().parameters(), kinematics.gear().parameters(),
+                               "the contact stage (mesh cycle)");
     HG_REQUIRE_INPUT(settings.n_positions >= 2 * settings.n_harmonics + 1,
                      "{positions_per_cycle} = ", settings.n_positions,
                      " is too few for {harmonics} = ", settings.n_harmonics,

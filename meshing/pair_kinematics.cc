@@ -15,16 +15,19 @@ namespace hertzgear::meshing
     constexpr double pi = 3.14159265358979323846;
   }
 
+  void require_spur_pair(const GearParameters &pinion, const GearParameters &gear,
+                         const std::string &stage)
+  {
+    for (const GearParameters *g : {&pinion, &gear})
+      HG_REQUIRE_INPUT(g->helix_angle_rad == 0, g->name, ": helix angle ",
+                       g->helix_angle_rad * 180 / pi, " deg: helical pairs are not supported by ",
+                       stage, " yet (only spur pairs, helix angle 0; ", field(*g, "helix_angle_rad"),
+                       ")");
+  }
+
   PairKinematics::PairKinematics(const PairParameters &parameters) : params(parameters)
   {
     GearParameters &p1 = params.pinion, &p2 = params.gear;
-    // The kinematics below (tight mesh, path of contact, one contact roll per pair, separations
-    // along the transverse line of action) are those of a spur pair.
-    for (const GearParameters *g : {&p1, &p2})
-      HG_REQUIRE_INPUT(g->helix_angle_rad == 0, g->name, ": helix angle ",
-                       g->helix_angle_rad * 180 / pi,
-                       " deg: helical pairs are not supported yet (only spur pairs, helix angle 0; ",
-                       field(*g, "helix_angle_rad"), ")");
     HG_REQUIRE_INPUT(std::abs(p1.module_mm - p2.module_mm) <= 1e-12 * p1.module_mm,
                      "impossible gear pair: pinion module ", p1.module_mm,
                      " mm differs from gear module ", p2.module_mm, " mm (", field(p1, "module_mm"),
@@ -32,30 +35,38 @@ namespace hertzgear::meshing
     HG_REQUIRE_INPUT(std::abs(p1.pressure_angle_rad - p2.pressure_angle_rad) <= 1e-14,
                      "impossible gear pair: the pressure angles of pinion and gear differ (",
                      field(p1, "pressure_angle_rad"), ", ", field(p2, "pressure_angle_rad"), ")");
+    // An external helical pair: the same helix angle, opposite hands.
+    HG_REQUIRE_INPUT(std::abs(p1.helix_angle_rad - p2.helix_angle_rad) <= 1e-14,
+                     "impossible gear pair: the helix angles of pinion and gear differ (",
+                     p1.helix_angle_rad * 180 / pi, " deg and ", p2.helix_angle_rad * 180 / pi,
+                     " deg; ", field(p1, "helix_angle_rad"), ", ", field(p2, "helix_angle_rad"), ")");
+    HG_REQUIRE_INPUT(p1.helix_angle_rad == 0 || p1.hand != p2.hand,
+                     "impossible gear pair: pinion and gear are both ",
+                     p1.hand == HelixHand::right ? "right" : "left",
+                     "-handed; an external helical pair needs opposite hands (", field(p1, "hand"),
+                     ", ", field(p2, "hand"), ")");
     HG_REQUIRE_INPUT(params.center_distance_mm >= 0 && params.backlash_loa_mm >= 0,
                      "centre distance and backlash must be >= 0 ({center_distance_mm}, "
                      "{backlash_loa_mm})");
     // The single-gear checks (undercut, pointed tip, ...) first: they name the gear and the cause.
     GearGeometry{p1};
     GearGeometry{p2};
-    const double m = p1.module_mm, alpha = p1.pressure_angle_rad;
-    const double r1 = 0.5 * m * p1.teeth, r2 = 0.5 * m * p2.teeth;
-    const double inv_tight = involute(alpha) + 2 * std::tan(alpha) *
-                                                 (p1.profile_shift_coefficient + p2.profile_shift_coefficient) /
-                                                 (p1.teeth + p2.teeth);
+    // The transverse section (ISO 21771:2007, 4.3): alpha_t, r = m_t z / 2, r_b = r cos(alpha_t);
+    // for a spur pair exactly alpha and m z / 2 (the conversions are skipped).
+    const double alpha = p1.pressure_angle_rad, alpha_t = transverse_pressure_angle_rad(p1);
+    const double inv_tight = involute(alpha_t) + 2 * std::tan(alpha) *
+                                                   (p1.profile_shift_coefficient + p2.profile_shift_coefficient) /
+                                                   (p1.teeth + p2.teeth);
     HG_REQUIRE_INPUT(inv_tight > 0, "impossible gear pair: the profile shifts x1 + x2 = ",
                      p1.profile_shift_coefficient + p2.profile_shift_coefficient,
                      " are so negative that the pair has no tight mesh (inv alpha_w = ", inv_tight,
                      " < 0; ", field(p1, "profile_shift_coefficient"), ", ",
                      field(p2, "profile_shift_coefficient"), ")");
-    const double rb1 = r1 * std::cos(alpha), rb2 = r2 * std::cos(alpha);
+    const double rb1 = meshing::base_radius_mm(p1), rb2 = meshing::base_radius_mm(p2);
 
-    // Tight mesh of the unthinned pair (zero backlash): inv(a_w) = inv(a) + 2 tan(a) (x1 + x2) /
-    // (z1 + z2), a_w = (r1 + r2) cos(a) / cos(a_w) (ISO 21771:2007, 5.4).
-    const double alpha_tight =
-      inverse_involute(involute(alpha) + 2 * std::tan(alpha) *
-                                           (p1.profile_shift_coefficient + p2.profile_shift_coefficient) /
-                                           (p1.teeth + p2.teeth));
+    // Tight mesh of the unthinned pair (zero backlash): inv(a_wt) = inv(a_t) + 2 tan(a_n) (x1 + x2)
+    // / (z1 + z2), a_w = (r1 + r2) cos(a_t) / cos(a_wt) (ISO 21771:2007, 5.4).
+    const double alpha_tight = inverse_involute(inv_tight);
     a_tight = (rb1 + rb2) / std::cos(alpha_tight);
 
     if (params.center_distance_mm > 0)
@@ -71,11 +82,11 @@ namespace hertzgear::meshing
         a_w     = a_tight;
         alpha_w = alpha_tight;
       }
-    // Backlash by thinning: each gear gives half of j_bn, a normal (base-circle) thickness
-    // reduction of j_bn / 2, i.e. j_bn / (2 cos a) of circular thickness on the reference circle.
+    // Backlash by thinning: each gear gives half of j_bn, a base-circle thickness reduction of
+    // j_bn / 2, i.e. j_bn / (2 cos a_t) of (transverse) circular thickness on the reference circle.
     if (params.backlash_loa_mm > 0)
       for (GearParameters *g : {&p1, &p2})
-        g->thickness_reduction_mm += 0.5 * params.backlash_loa_mm / std::cos(alpha);
+        g->thickness_reduction_mm += 0.5 * params.backlash_loa_mm / std::cos(alpha_t);
 
     gears.emplace_back(p1);
     gears.emplace_back(p2);
@@ -96,7 +107,29 @@ namespace hertzgear::meshing
     gears.clear();
     gears.emplace_back(p1);
     gears.emplace_back(p2);
+    if (p1.helix_angle_rad != 0)
+      {
+        // The contact line's inclination in the plane of action: the pinion's section at z is
+        // turned by psi(z) = h z tan(beta) / r_1 (FlankSurface), which moves its contact along the
+        // line of action by r_b1 psi = h z tan(beta) cos(alpha_t) = h z tan(beta_b).
+        beta          = p1.helix_angle_rad;
+        beta_b        = meshing::base_helix_angle_rad(p1);
+        cos_beta_b    = std::cos(beta_b);
+        roll_per_face = (p1.hand == HelixHand::right ? 1.0 : -1.0) * std::tan(beta_b);
+      }
     check();
+  }
+
+  void PairKinematics::require_spur(const char *function) const
+  {
+    HG_REQUIRE_INPUT(beta == 0, "PairKinematics::", function, ": helix angle ", beta * 180 / pi,
+                     " deg: helical pairs are not supported yet (it measures along the contact "
+                     "roll of a spur pair; ", field(pinion().parameters(), "helix_angle_rad"), ")");
+  }
+
+  double PairKinematics::face_contact_ratio() const
+  {
+    return beta == 0 ? 0.0 : face_width_mm() * std::sin(beta) / (pi * pinion().module_mm());
   }
 
   void PairKinematics::check() const
@@ -225,19 +258,51 @@ namespace hertzgear::meshing
     return s_A + (mesh_phase + pair) * p_b;
   }
 
+  double PairKinematics::contact_roll_distance_mm(const int pair, const double mesh_phase,
+                                                  const double z_mm) const
+  {
+    const double s = contact_roll_distance_mm(pair, mesh_phase);
+    return roll_per_face == 0 ? s : s + roll_per_face * z_mm;
+  }
+
   std::vector<int> PairKinematics::pairs_in_contact(const double mesh_phase) const
   {
     std::vector<int> pairs;
     const double     tol = 1e-12 * p_b;
-    for (int j = -1; j < 64; ++j)
+    // How far a contact line reaches from its mid-face roll over half the face (0 for spur: the
+    // comparisons below are then exactly the spur ones).
+    const double reach   = std::abs(roll_per_face) * 0.5 * face_width_mm();
+    const int    n_reach = static_cast<int>(std::ceil(reach / p_b));
+    for (int j = -1 - n_reach; j < 64 + n_reach; ++j)
       {
         const double s = contact_roll_distance_mm(j, mesh_phase);
-        if (s > s_E + tol)
+        if (s - reach > s_E + tol)
           break;
-        if (s >= s_A - tol)
+        if (s + reach >= s_A - tol)
           pairs.push_back(j);
       }
     return pairs;
+  }
+
+  double PairKinematics::contact_line_length_mm(const double mesh_phase) const
+  {
+    const double b = face_width_mm(), half = 0.5 * b;
+    double       extent = 0; // the lines' z-extent inside the field of action
+    for (const int j : pairs_in_contact(mesh_phase))
+      {
+        if (roll_per_face == 0)
+          {
+            extent += b;
+            continue;
+          }
+        // s_j + k z in [s_A, s_E]  <=>  z between (s_A - s_j) / k and (s_E - s_j) / k.
+        const double s  = contact_roll_distance_mm(j, mesh_phase);
+        double       z0 = (s_A - s) / roll_per_face, z1 = (s_E - s) / roll_per_face;
+        if (z0 > z1)
+          std::swap(z0, z1);
+        extent += std::max(0.0, std::min(z1, half) - std::max(z0, -half));
+      }
+    return extent / cos_beta_b;
   }
 
   Eigen::Vector2d PairKinematics::line_of_action_direction() const
@@ -287,6 +352,7 @@ namespace hertzgear::meshing
   double PairKinematics::gear_roll_at_mm(const int pair, const double mesh_phase,
                                          const double pinion_roll_mm) const
   {
+    require_spur("gear_roll_at_mm");
     const double s_j = contact_roll_distance_mm(pair, mesh_phase);
     const double rb1 = pinion().base_radius_mm(), rb2 = gear().base_radius_mm();
     // Pinion flank point P of roll length s' (tangent point at theta_1 = centre + psi_b - u).
@@ -320,6 +386,7 @@ namespace hertzgear::meshing
   double PairKinematics::separation_mm(const int pair, const double mesh_phase,
                                        const double pinion_roll_mm, const double z_mm) const
   {
+    require_spur("separation_mm");
     const double s_j = contact_roll_distance_mm(pair, mesh_phase);
     const double rb1 = pinion().base_radius_mm(), rb2 = gear().base_radius_mm();
     const double t1  = pinion_tooth_angle(s_j) + pinion().half_base_thickness_angle_rad() -
@@ -399,6 +466,7 @@ namespace hertzgear::meshing
 
   double PairKinematics::rigid_approach_mm(const double mesh_phase) const
   {
+    require_spur("rigid_approach_mm");
     // The modifications separate into a lead part (z) and a profile part (roll length), so the
     // smallest over the face is the profile part plus the smallest lead part.
     const double lead     = smallest_lead_gap_mm().second;

@@ -1,21 +1,30 @@
 #pragma once
-// Kinematics of a spur pair and its unloaded tooth contact analysis (docs/geometry.md).
+// Kinematics of a spur or helical pair and the unloaded tooth contact analysis of a spur pair
+// (docs/geometry.md, "Pair kinematics" and "Helical pairs: kinematics").
 //
-// Pair frame (mm, rad): pinion centre O1 at the origin, gear centre O2 = (a_w, 0). The pinion
-// drives counter-clockwise, the gear turns clockwise. Both bodies touch on their +theta flanks
-// (GearGeometry's "drive" flank) along the line of action from T1 = r_b1 (cos a_w, -sin a_w)
-// (pinion base tangent point) in direction e = (sin a_w, cos a_w) to T2. A point of the line of
-// action is given by its roll distance s = |T1 P|; s is also the radius of curvature of the
-// pinion flank there, and L - s that of the gear flank (L = |T1 T2| = a_w sin a_w).
+// Pair frame (mm, rad): pinion centre O1 at the origin, gear centre O2 = (a_w, 0), z along both
+// axes (0 = mid-face). The pinion drives counter-clockwise, the gear turns clockwise. Everything
+// below lives in the transverse section (for a helical pair: transverse module, pressure angle,
+// base radii and base pitch, ISO 21771): both bodies touch on their +theta flanks
+// (GearGeometry's "drive" flank) along the transverse line of action from
+// T1 = r_b1 (cos a_w, -sin a_w) (pinion base tangent point) in direction e = (sin a_w, cos a_w) to
+// T2. A point of the line of action is given by its roll distance s = |T1 P|; s is also the
+// transverse radius of curvature of the pinion flank there, and L - s that of the gear flank
+// (L = |T1 T2| = a_w sin a_w).
 //
 // Mesh phase tau in [0, 1) is the pinion's turn in units of its angular pitch 2 pi / z1. Tooth
-// pair j (j = 0, 1, ...) touches, if at all, at s_j(tau) = s_A + (tau + j) p_b: pair 0 enters at
-// A when tau = 0, pair 1 entered one base pitch earlier.
+// pair j (j = 0, 1, ...) touches in the mid-face section z = 0, if at all, at
+// s_j(tau) = s_A + (tau + j) p_b: pair 0 enters at A when tau = 0, pair 1 entered one base pitch
+// earlier. A helical pair's contact line is inclined by the base helix angle beta_b in the plane
+// of action: s_j(tau, z) = s_j(tau) + h_1 z tan(beta_b), h_1 = +1 for a right-hand pinion, -1 for
+// a left-hand one (the pinion's section at z is turned by h_1 z tan(beta) / r_1 in its driving
+// sense, FlankSurface); spur: s_j(tau, z) = s_j(tau).
 #include "meshing/gear_geometry.h"
 #include "meshing/gear_parameters.h"
 
 #include <Eigen/Core>
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -40,11 +49,17 @@ namespace hertzgear::meshing
     double          rotation_rad = 0;
   };
 
+  // Refuses a helical pair (either gear with a helix angle) in a stage that handles spur pairs
+  // only: InputError "helical pairs are not supported by <stage> yet" naming the helix angle.
+  void require_spur_pair(const GearParameters &pinion, const GearParameters &gear,
+                         const std::string &stage);
+
   class PairKinematics
   {
   public:
     // Resolves the operating centre distance and the backlash (thinning the teeth when the
-    // centre distance is not given), builds both gears and runs the pair checks: jamming centre
+    // centre distance is not given), builds both gears and runs the pair checks: equal modules,
+    // pressure angles and helix angles, opposite hands of a helical pair, jamming centre
     // distance, involute interference, contact ratio below 1, tip relief beyond the active
     // profile. Throws InputError.
     explicit PairKinematics(const PairParameters &parameters);
@@ -61,8 +76,16 @@ namespace hertzgear::meshing
     double base_pitch_mm() const { return p_b; }
     double line_of_action_length_mm() const { return L; } // |T1 T2|
     double path_of_contact_mm() const { return s_E - s_A; }
-    double contact_ratio() const { return (s_E - s_A) / p_b; }
-    // Total backlash along the line of action j_bn (from the centre distance and the thinning).
+    double contact_ratio() const { return (s_E - s_A) / p_b; } // transverse, eps_alpha
+    // Helix angle beta at the reference circle and base helix angle beta_b (both 0 for spur).
+    double helix_angle_rad() const { return beta; }
+    double base_helix_angle_rad() const { return beta_b; }
+    // Face (overlap) contact ratio eps_beta = b sin(beta) / (pi m_n), b the common face width,
+    // and the total contact ratio eps_gamma = eps_alpha + eps_beta (ISO 21771:2007, 5.5).
+    double face_contact_ratio() const;
+    double total_contact_ratio() const { return contact_ratio() + face_contact_ratio(); }
+    // Total backlash along the (transverse) line of action j_bn, from the centre distance and the
+    // thinning; for a helical pair the backlash normal to the flanks is j_bn cos(beta_b).
     double backlash_loa_mm() const { return j_bn; }
     double gear_ratio() const;
 
@@ -76,9 +99,19 @@ namespace hertzgear::meshing
     // contact from: point A on the pinion, point E on the gear.
     double active_profile_start_radius_mm(unsigned int body) const;
 
-    // Contact position s_j(tau) of pair j, and the pairs with s_A <= s_j <= s_E.
-    double           contact_roll_distance_mm(int pair, double mesh_phase) const;
+    // Contact position s_j(tau) of pair j in the mid-face section, and s_j(tau, z) at face
+    // position z: s_j(tau) + contact_line_slope() z.
+    double contact_roll_distance_mm(int pair, double mesh_phase) const;
+    double contact_roll_distance_mm(int pair, double mesh_phase, double z_mm) const;
+    // ds/dz of a contact line in the plane of action: h_1 tan(beta_b) (0 for spur).
+    double contact_line_slope() const { return roll_per_face; }
+    // The pairs whose contact line meets the path of contact, s_A <= s_j(tau, z) <= s_E, somewhere
+    // on the face |z| <= b/2 (spur: s_A <= s_j <= s_E), in increasing order of j.
     std::vector<int> pairs_in_contact(double mesh_phase) const;
+    // Total length [mm] of the contact lines inside the field of action (s_A <= s <= s_E,
+    // |z| <= b/2) at mesh phase tau: each line's extent in z there, divided by cos(beta_b).
+    // Exact (the lines are clipped analytically); spur: b times the number of pairs in contact.
+    double contact_line_length_mm(double mesh_phase) const;
     // Point of the line of action in the pair frame.
     Eigen::Vector2d line_of_action_point(double roll_distance_mm) const;
     Eigen::Vector2d line_of_action_direction() const;
@@ -86,7 +119,8 @@ namespace hertzgear::meshing
     // Placement of the body meshes at a mesh phase, for a sector with `central_tooth` on the
     // +x axis of the body frame (GearBodyMesher's central_tooth()): the pinion's central tooth
     // and the gear's central tooth form pair 0. Pair j uses pinion tooth central + j and gear
-    // tooth central - j.
+    // tooth central - j. A rotation about the axis: for a helical pair it places the whole
+    // helicoids (their mid-face sections touch at s_j(tau)).
     BodyPlacement placement(unsigned int body, double mesh_phase) const;
     static int    sector_tooth_of_pair(unsigned int body, int central_tooth, int pair);
 
@@ -96,6 +130,8 @@ namespace hertzgear::meshing
     // z (0 = mid-face), including crowning and tip relief of both flanks, minus the rigid
     // approach: the smallest gap over the contact lines of all pairs in contact is 0.
     // Rigid bodies in the unloaded position; this is the FE contact stage's gap input.
+    // This and the functions below that measure along one contact roll (separation, rigid
+    // approach, gear roll) are those of a spur pair: they throw InputError for a helical one.
     double unloaded_gap_mm(int pair, double mesh_phase, double pinion_roll_mm, double z_mm) const;
     // Without the rigid approach (the separation of the nominal flanks plus modifications).
     double separation_mm(int pair, double mesh_phase, double pinion_roll_mm, double z_mm) const;
@@ -119,11 +155,14 @@ namespace hertzgear::meshing
     PairParameters params;
     std::vector<GearGeometry> gears;
     double a_w = 0, a_tight = 0, alpha_w = 0, p_b = 0, L = 0, s_A = 0, s_E = 0, j_bn = 0;
+    // Helical: beta, beta_b, cos(beta_b) and h_1 tan(beta_b); spur: 0, 0, 1, 0 exactly.
+    double beta = 0, beta_b = 0, cos_beta_b = 1, roll_per_face = 0;
 
     // Polar angle of the centre line of the pinion (gear) tooth whose drive flank touches the
     // line of action at roll distance s.
     double pinion_tooth_angle(double s) const;
     double gear_tooth_angle(double s) const;
     void   check() const;
+    void   require_spur(const char *function) const;
   };
 } // namespace hertzgear::meshing

@@ -145,6 +145,8 @@ namespace hertzgear::stiffness
 
   void check_closed_form_input(const StiffnessInput &input)
   {
+    meshing::require_spur_pair(input.pair.pinion, input.pair.gear,
+                               "the closed-form stiffness sources");
     if (!(input.torque_Nm > 0))
       throw ParameterError("torque_Nm", msg(input.torque_Nm,
                                             ": the closed-form stiffness is evaluated at the "

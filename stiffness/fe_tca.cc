@@ -1053,6 +1053,8 @@ namespace hertzgear::stiffness
       void check(const StiffnessInput &input) const override
       {
         const auto &fe = input.fe;
+        meshing::require_spur_pair(input.pair.pinion, input.pair.gear,
+                                   "the finite-element stiffness source (fem)");
         if (!(input.torque_Nm > 0))
           throw ParameterError("torque_Nm", msg(input.torque_Nm, ": the loaded tooth contact "
                                                                  "analysis needs a positive torque"));

@@ -19,6 +19,7 @@ namespace hertzgear::stiffness
   Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, const double pinion_torque_Nm)
   {
     const meshing::GearParameters &p1 = pair.pinion().parameters(), &p2 = pair.gear().parameters();
+    meshing::require_spur_pair(p1, p2, "ISO 6336-1 method B (stiffness)");
     // Spur gears: virtual numbers of teeth z_n = z, helix angle beta = 0.
     const double z1 = p1.teeth, z2 = p2.teeth;
     const double x1 = p1.profile_shift_coefficient, x2 = p2.profile_shift_coefficient;
@@ -48,6 +49,7 @@ namespace hertzgear::stiffness
                                               const double pinion_torque_Nm)
   {
     const meshing::GearParameters &p1 = pair.pinion().parameters(), &p2 = pair.gear().parameters();
+    meshing::require_spur_pair(p1, p2, "the ISO 6336-2 nominal contact stress");
     const double d1      = p1.module_mm * p1.teeth;
     const double b       = std::min(p1.face_width_mm, p2.face_width_mm);
     const double u       = double(p2.teeth) / p1.teeth;

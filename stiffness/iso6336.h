@@ -41,7 +41,8 @@ namespace hertzgear::stiffness
                                      line_load_N_per_mm, within_validity)
 
   // `pinion_torque_Nm` gives F_t = 2000 T1 / d1 on the reference circle (K_A = 1); the face
-  // width is the smaller of both. Solid blanks (C_R = 1).
+  // width is the smaller of both. Solid blanks (C_R = 1). Spur pairs: a helical one is refused
+  // (InputError).
   Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, double pinion_torque_Nm);
 
   // The nominal contact stress of ISO 6336-2 (method B) at the pitch point of a spur pair,
@@ -49,7 +50,7 @@ namespace hertzgear::stiffness
   // with F_t = 2000 |T1| / d1 on the reference circle (K factors 1), d1 = m z1, b the smaller face
   // width, u = z2 / z1, the zone factor Z_H = sqrt(2 cos(alpha_w) / (cos^2(alpha) sin(alpha_w))),
   // the elasticity factor Z_E = sqrt(1 / (pi ((1 - nu1^2) / E1 + (1 - nu2^2) / E2))) and the
-  // contact ratio factor Z_eps = sqrt((4 - eps_alpha) / 3).
+  // contact ratio factor Z_eps = sqrt((4 - eps_alpha) / 3). A helical pair is refused (InputError).
   struct NominalContactStress
   {
     double sigma_H0_MPa                = 0;

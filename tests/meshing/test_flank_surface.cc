@@ -8,6 +8,10 @@
 #include "meshing/pair_kinematics.h"
 
 #include "common/errors.h"
+#include "common/material.h"
+#include "contact/mesh_cycle.h"
+#include "stiffness/iso6336.h"
+#include "stiffness/registry.h"
 #include "tests/support/spur_pair.h"
 
 #include <gmock/gmock.h>
@@ -16,7 +20,9 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 using namespace hertzgear::meshing;
@@ -286,29 +292,53 @@ TEST(FlankSurface, HelicalRemovalInTheTransverseSection)
     }
 }
 
-// Requirement: a pair with a helix angle is refused with an input error that says helical pairs
-// are not supported yet and names the helix angle and its field; a single helical gear is
-// accepted (so that its flank surface exists).
-TEST(FlankSurface, PairKinematicsRefusesHelicalPairs)
+// Requirement: a helical pair (same helix angle, opposite hands) is accepted by the pair
+// kinematics, and every stage that handles spur pairs only refuses it with an input error that
+// says helical pairs are not supported by that stage yet and names the helix angle and its field:
+// the contact stage (mesh cycle), the finite-element and closed-form stiffness sources, ISO 6336.
+TEST(FlankSurface, HelicalPairsAreRefusedByTheSpurOnlyStages)
 {
   EXPECT_NO_THROW(GearGeometry(pinion(15 * pi / 180)));
   PairParameters pair         = hertzgear::testing::spur_pair();
   pair.pinion.helix_angle_rad = 15 * pi / 180;
   pair.gear.helix_angle_rad   = 15 * pi / 180;
   pair.gear.hand              = HelixHand::left;
-  try
-    {
-      PairKinematics kin(pair);
-      ADD_FAILURE() << "a helical pair was accepted";
-    }
-  catch (const hertzgear::InputError &e)
-    {
-      EXPECT_THAT(e.what(), ::testing::HasSubstr("helical pairs are not supported yet"));
-      EXPECT_THAT(e.what(), ::testing::HasSubstr("helix angle 15"));
-      EXPECT_THAT(e.what(), ::testing::HasSubstr("{pinion.helix_angle_rad}"));
-    }
-  // The spur pair of the same gears is accepted.
+  const PairKinematics kin(pair);
+  const auto refused = [](const std::function<void()> &stage, const std::string &name) {
+    try
+      {
+        stage();
+        ADD_FAILURE() << name << " accepted a helical pair";
+      }
+    catch (const hertzgear::InputError &e)
+      {
+        EXPECT_THAT(e.what(),
+                    ::testing::HasSubstr("helical pairs are not supported by " + name + " yet"));
+        EXPECT_THAT(e.what(), ::testing::HasSubstr("helix angle 15"));
+        EXPECT_THAT(e.what(), ::testing::HasSubstr("{pinion.helix_angle_rad}"));
+      }
+  };
+  const hertzgear::Material                     steel;
+  const hertzgear::contact::RigidFlankCompliance rigid(0.3);
+  refused([&] { hertzgear::contact::MeshCycle(kin, steel, steel, rigid, rigid, {}); },
+          "the contact stage (mesh cycle)");
+  hertzgear::stiffness::StiffnessInput input;
+  input.pair      = pair;
+  input.torque_Nm = 210;
+  refused([&] { hertzgear::stiffness::find_source("fem").check(input); },
+          "the finite-element stiffness source (fem)");
+  for (const char *source : {"iso6336", "hertz-analytic", "potential-energy"})
+    refused([&] { hertzgear::stiffness::find_source(source).check(input); },
+            "the closed-form stiffness sources");
+  refused([&] { hertzgear::stiffness::iso6336_method_b(kin, 210); }, "ISO 6336-1 method B (stiffness)");
+  refused([&] { hertzgear::stiffness::nominal_contact_stress(kin, steel, steel, 210); },
+          "the ISO 6336-2 nominal contact stress");
+  // The same gears as a spur pair pass every one of these checks.
   pair.pinion.helix_angle_rad = 0;
   pair.gear.helix_angle_rad   = 0;
-  EXPECT_NO_THROW(PairKinematics{pair});
+  input.pair                  = pair;
+  const PairKinematics spur(pair);
+  EXPECT_NO_THROW(hertzgear::contact::MeshCycle(spur, steel, steel, rigid, rigid, {}));
+  for (const char *source : {"fem", "iso6336", "hertz-analytic", "potential-energy"})
+    EXPECT_NO_THROW(hertzgear::stiffness::find_source(source).check(input)) << source;
 }
