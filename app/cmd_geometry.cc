@@ -17,15 +17,23 @@ namespace hertzgear
   {
     void print_summary(std::ostream &out, const nlohmann::json &j)
     {
+      const bool helical = j["helix_angle_deg"].get<double>() != 0;
       out << std::fixed << std::setprecision(4);
-      out << "spur pair geometry (lengths in mm)\n"
-          << "  centre distance          " << j["center_distance_mm"].get<double>()
+      out << (helical ? "helical" : "spur") << " pair geometry (lengths in mm"
+          << (helical ? ", transverse section" : "") << ")\n";
+      if (helical)
+        out << "  helix angle beta         " << j["helix_angle_deg"].get<double>() << " deg\n"
+            << "  base helix angle beta_b  " << j["base_helix_angle_deg"].get<double>() << " deg\n";
+      out << "  centre distance          " << j["center_distance_mm"].get<double>()
           << "  (reference " << j["reference_center_distance_mm"].get<double>() << ")\n"
           << "  operating pressure angle " << j["operating_pressure_angle_deg"].get<double>() << " deg\n"
           << "  base pitch               " << j["base_pitch_mm"].get<double>() << "\n"
           << "  path of contact          " << j["path_of_contact_mm"].get<double>() << "\n"
-          << "  contact ratio eps_alpha  " << j["contact_ratio"].get<double>() << "\n"
-          << "  backlash (line of action)" << " " << j["backlash_loa_mm"].get<double>() << "\n";
+          << "  contact ratio eps_alpha  " << j["contact_ratio"].get<double>() << "\n";
+      if (helical)
+        out << "  overlap ratio eps_beta   " << j["face_contact_ratio"].get<double>() << "\n"
+            << "  total ratio eps_gamma    " << j["total_contact_ratio"].get<double>() << "\n";
+      out << "  backlash (line of action)" << " " << j["backlash_loa_mm"].get<double>() << "\n";
       for (const char *body : {"pinion", "gear"})
         {
           const auto &g = j[body];
@@ -47,6 +55,11 @@ namespace hertzgear
               << "  " << std::setw(10) << p["rho_pinion_mm"].get<double>() << "  " << std::setw(8)
               << p["rho_gear_mm"].get<double>() << "\n";
         }
+      if (j["iso6336"].is_null())
+        {
+          out << "  ISO 6336-1 method B: not computed (spur pairs only)\n";
+          return;
+        }
       const auto &iso = j["iso6336"];
       out << "  ISO 6336-1 method B: c'_th " << iso["c_prime_th_N_per_mm_um"].get<double>()
           << "  c' " << iso["c_prime_N_per_mm_um"].get<double>() << "  c_gamma_alpha "
@@ -58,7 +71,10 @@ namespace hertzgear
       const Scene scene = load_scene(ctx.scene_file, ctx.overrides);
       const auto  pair  = make_pair(scene);
       auto        j     = meshing::pair_json(pair);
-      j["iso6336"]      = stiffness::iso6336_method_b(pair, scene.operating.torque_Nm);
+      // ISO 6336-1 method B is implemented for spur pairs (null for a helical one).
+      j["iso6336"] = pair.helix_angle_rad() == 0 ?
+                       nlohmann::json(stiffness::iso6336_method_b(pair, scene.operating.torque_Nm)) :
+                       nlohmann::json(nullptr);
       j["scene_hash"]   = scene.hash;
       begin_on_out(ctx);
       if (!processes::is_root())

@@ -31,7 +31,11 @@ namespace hertzgear::meshing
   {
     constexpr double rad_to_deg = 180.0 / M_PI;
     nlohmann::json   j;
-    j["contact_ratio"]                = pair.contact_ratio();
+    j["contact_ratio"]                = pair.contact_ratio(); // transverse, eps_alpha
+    j["helix_angle_deg"]              = pair.helix_angle_rad() * rad_to_deg;
+    j["base_helix_angle_deg"]         = pair.base_helix_angle_rad() * rad_to_deg;
+    j["face_contact_ratio"]           = pair.face_contact_ratio();  // eps_beta
+    j["total_contact_ratio"]          = pair.total_contact_ratio(); // eps_gamma
     j["center_distance_mm"]           = pair.center_distance_mm();
     j["reference_center_distance_mm"] = pair.reference_center_distance_mm();
     j["operating_pressure_angle_deg"] = pair.operating_pressure_angle_rad() * rad_to_deg;

@@ -1,6 +1,7 @@
 // Requirement: `hertzgear geometry SCENE --json` prints one JSON object with the keys of the
 // command-line contract (lengths in mm), and the bundled paper scenes reproduce the paper's
-// contact ratio 1.559 (Table 1) with its backlash 0.1172 mm.
+// contact ratio 1.559 (Table 1) with its backlash 0.1172 mm. The helical keys are there for a spur
+// pair too, with helix angles 0, overlap ratio 0 and total contact ratio = eps_alpha exactly.
 #include "tests/support/run_command.h"
 
 #include <nlohmann/json.hpp>
@@ -32,6 +33,10 @@ TEST(GeometryCommand, JsonHasTheContractKeys)
   // The paper: 1.559 (three decimals printed) and 0.1172 mm.
   EXPECT_NEAR(j.at("contact_ratio").get<double>(), 1.559, 5e-4);
   EXPECT_NEAR(j.at("backlash_loa_mm").get<double>(), 0.1172, 1e-12);
+  EXPECT_EQ(j.at("helix_angle_deg").get<double>(), 0.0);
+  EXPECT_EQ(j.at("base_helix_angle_deg").get<double>(), 0.0);
+  EXPECT_EQ(j.at("face_contact_ratio").get<double>(), 0.0);
+  EXPECT_EQ(j.at("total_contact_ratio").get<double>(), j.at("contact_ratio").get<double>());
 }
 
 TEST(GeometryCommand, UncrownedHasNullCrowningRadius)
