@@ -66,14 +66,15 @@ namespace hertzgear::meshing
     std::string name = "gear"; // used in messages: "pinion" or "gear"
   };
 
-  // A spur pair: pinion (driving) and gear (driven).
+  // A spur or helical pair: pinion (driving) and gear (driven); a helical pair has the same helix
+  // angle on both gears and opposite hands.
   struct PairParameters
   {
     GearParameters pinion, gear;
     // Operating centre distance a_w; 0 = the tight-mesh distance of the (unthinned) pair, with
     // backlash_loa_mm made by thinning both gears equally.
     double center_distance_mm = 0;
-    // Total backlash along the line of action j_bn, used when center_distance_mm = 0.
+    // Total backlash along the (transverse) line of action j_bn, used when center_distance_mm = 0.
     double backlash_loa_mm = 0;
     // Shaft misalignment, each as the difference over the face width b [mm] (ISO 6336-1,
     // ISO/TR 10064-3): the mesh misalignment f_ma along the line of action, the inclination
