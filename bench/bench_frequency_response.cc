@@ -69,6 +69,7 @@ namespace
     std::vector<double> rms;
     std::vector<bool>   stable;
     int                 jumps = 0;
+    long                steps = 0, rejected_steps = 0; // of the converged orbits' shooting
   };
 
   // Orbits at every speed, each predicted from the two before (the secant through them, or the
@@ -157,6 +158,8 @@ namespace
         before = c.rms.empty() || jumped ? std::vector<double>{} : last;
         last   = orbit.state;
         c.rms.push_back(analyse_orbit(model, orbit, analysis).rms_dte_m);
+        c.steps += orbit.stats.steps;
+        c.rejected_steps += orbit.stats.rejected_steps;
         c.stable.push_back(orbit.stable);
       }
     return c;
@@ -273,8 +276,9 @@ int main(int argc, char **argv)
                                                               Law::serial_hertz;
       const auto t0 = std::chrono::steady_clock::now();
       const Curve c = shooting_curve(1e-8, 1e-6, l);
-      std::printf("%s: %d-speed shooting curve %.3f s, %d jumps\n", name(l), n_speeds,
-                  seconds_since(t0), c.jumps);
+      std::printf("%s: %d-speed shooting curve %.3f s, %d jumps, %ld steps (%ld rejected) in "
+                  "the shooting of its orbits\n", name(l), n_speeds, seconds_since(t0), c.jumps,
+                  c.steps, c.rejected_steps);
       return 0;
     }
   if (argc > 1 && std::string(argv[1]) == "laws")

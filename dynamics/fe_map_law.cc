@@ -5,25 +5,29 @@
 // A member (structural: exponent p = 1; Hertzian: p = n of the table) at rung j of load F_j has
 // the compression a_j(theta) at the mesh angle theta. Across the mesh cycle its secant coefficient
 // c_j = F_j / a_j^p is the trigonometric interpolant of its S positions (exactly the series of a
-// ladder made from Fourier coefficients). Across the load, log F is the cubic spline of log a
-// through the rungs (X_j = log a_j, Y_j = log F_j; C2, so that an integrator's steps do not
-// shrink where the motion crosses a rung, and exact on a power law), its curvature zero at the
-// top, where it continues as the power law of its end slope (an extrapolation the analyses count,
-// docs/dynamics.md). At the lowest rung the structural member's slope is 1 (linear below it down
-// to first touch); the Hertzian member's spline is natural there too and continues below as the
+// ladder made from Fourier coefficients). Across the load, log F is the quintic spline of log a
+// through the rungs (X_j = log a_j, Y_j = log F_j; C4, so that an integrator's error estimate does
+// not see the rungs the motion crosses, and exact on a power law), its curvature and third
+// derivative zero at the top, where it continues as the power law of its end slope (an
+// extrapolation the analyses count, docs/dynamics.md). At the lowest rung the structural member's
+// slope is 1 and its curvature 0 (linear below it down to first touch); the Hertzian member's
+// spline is natural there too (curvature and third derivative 0) and continues below as the
 // power law of its slope m_0 there, the FE's own exponent at light load, unless m_0 < 1 at some
-// phase (a softening contact), when it is clamped to n. The spline is checked to grow
-// at every phase (a ladder whose spline does not is refused).
+// phase (a softening contact), when it is clamped to n. The spline is checked to grow at every
+// phase (a ladder whose spline does not is refused).
 //
-// The coefficients X_j(theta) and the spline's slopes m_j(theta) of each member that varies over
-// the cycle are computed exactly on N nodes over the cycle at construction; an evaluation
-// interpolates the few it needs by the quintic Hermite polynomial of its cell (GridPhase), N
-// doubled until that is exact to 1e-12 (docs/dynamics.md, "What an evaluation costs"). A member
-// that does not vary keeps its coefficients at the cycle's mean (ConstantPhase).
+// The coefficients X_j(theta) and the spline's slopes m_j(theta) and curvatures kappa_j(theta) of
+// each member that varies over the cycle are computed exactly on N nodes over the cycle at
+// construction; an evaluation interpolates the few it needs by the quintic Hermite polynomial of
+// its cell (GridPhase), N doubled until that is exact to 1e-12 (docs/dynamics.md, "What an
+// evaluation costs"). A member that does not vary keeps its coefficients at the cycle's mean
+// (ConstantPhase).
 #include "common/errors.h"
 #include "common/fourier_series.h"
 #include "dynamics/mesh_force_law.h"
 #include "dynamics/power_law.h"
+
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <array>
@@ -84,11 +88,29 @@ namespace hertzgear::dynamics
             }
         for (std::size_t j = 0; j < Y.size(); ++j)
           constant_x.push_back((Y[j] - std::log(mean_secant[j])) / p);
+        // The interval of constant_x at the left edge of each of `buckets` equal cells over
+        // [x_0, x_{J-1}] (at least 2 rungs: the ladder's check), so that an evaluation finds its
+        // interval's neighbourhood with one multiplication.
+        bucket_scale = double(buckets) / (constant_x.back() - constant_x.front());
+        for (unsigned b = 0; b < buckets; ++b)
+          bucket_interval[b] = static_cast<int>(
+            std::upper_bound(constant_x.begin(), constant_x.end(),
+                             constant_x.front() + double(b) / bucket_scale) - constant_x.begin() - 1);
       }
 
       std::size_t n_rungs() const { return Y.size(); }
-      // Phase coefficients of the member: X_j and m_j.
-      unsigned n_phase_coefficients() const { return 2 * static_cast<unsigned>(Y.size()); }
+      // What an error in a curvature kappa_j does to log F at most, per unit: the largest
+      // |H(t)| = t^2 (1 - t)^3 / 2 of its basis function (at t = 2/5) times D^2, D the widest
+      // rung interval in X (at the cycle's mean).
+      double curvature_weight() const
+      {
+        double widest = 0.0;
+        for (std::size_t j = 0; j + 1 < constant_x.size(); ++j)
+          widest = std::max(widest, constant_x[j + 1] - constant_x[j]);
+        return 0.01728 * widest * widest;
+      }
+      // Phase coefficients of the member: X_j, m_j and kappa_j.
+      unsigned n_phase_coefficients() const { return 3 * static_cast<unsigned>(Y.size()); }
       bool     varies() const { return harmonics > 0; }
 
       // The Taylor triples of X_j from those of c_j, X = (Y - log c) / p, then of the slopes.
@@ -126,7 +148,7 @@ namespace hertzgear::dynamics
             x[1]      = -d1 / (p * v);
             x[2]      = -(d2 * v - d1 * d1) / (p * v * v);
           }
-        slopes(taylor);
+        spline(taylor);
       }
       // The same at the cycle's mean coefficients (no rates).
       void mean_coefficients(double *taylor) const
@@ -137,19 +159,25 @@ namespace hertzgear::dynamics
             x[0]      = constant_x[j];
             x[1] = x[2] = 0.0;
           }
-        slopes(taylor);
+        spline(taylor);
       }
 
-      // The force at the compression a > 0 with its derivatives in a and in time at fixed a.
+      // The force at the compression a > 0 with its derivatives in a and in time at fixed a
+      // (without `rates` that in time is left 0).
       template <class Phase>
       MemberForce force(const Phase &ph, const double a, const bool rates = true) const
       {
+        return rates ? force<true>(ph, a) : force<false>(ph, a);
+      }
+      template <bool rates, class Phase>
+      MemberForce force(const Phase &ph, const double a) const
+      {
         const long   J = static_cast<long>(Y.size());
         const double X = std::log(a);
-        // The interval k (x_k <= X < x_{k+1}; -1 below the ladder, J - 1 above it): found among
-        // the x_j at the cycle's mean (a plain array), then corrected with the phase's values.
-        long k = static_cast<long>(std::upper_bound(constant_x.begin(), constant_x.end(), X) -
-                                   constant_x.begin()) - 1;
+        // The interval k (x_k <= X < x_{k+1}; -1 below the ladder, J - 1 above it): near the one
+        // among the x_j at the cycle's mean (their bucket), then found with the phase's values.
+        const double b = (X - constant_x.front()) * bucket_scale;
+        long k = !(b >= 0.0) ? -1 : (b >= double(buckets) ? J - 1 : bucket_interval[std::size_t(b)]);
         double xk = 0.0, xk1 = 0.0;
         for (long it = 0; it <= J; ++it)
           {
@@ -169,7 +197,7 @@ namespace hertzgear::dynamics
             const double dX = X - xk1;
             Yv              = Y[0] + m * dX;
             dY_dX           = m;
-            if (rates)
+            if constexpr (rates)
               dY_dt = (natural_low ? ph.rate(slope_index(0)) * dX : 0.0) - m * xr(ph, 0);
           }
         else if (k == J - 1)
@@ -179,7 +207,7 @@ namespace hertzgear::dynamics
             const double dX = X - xk;
             Yv              = Y[J - 1] + m * dX;
             dY_dX           = m;
-            if (rates)
+            if constexpr (rates)
               dY_dt = ph.rate(slope_index(std::size_t(J - 1))) * dX - m * xr(ph, std::size_t(J - 1));
           }
         else
@@ -188,20 +216,22 @@ namespace hertzgear::dynamics
             const double      D     = xk1 - xk;
             const double      inv_D = 1.0 / D;
             const double      t     = (X - xk) * inv_D;
-            const double      m0 = ph.value(slope_index(i)), m1 = ph.value(slope_index(i + 1));
-            // The cubic in t in Horner form: Y_i + t (D m0 + t (c2 + t c3)).
-            const double dY = Y[i + 1] - Y[i], s0 = D * m0, s1 = D * m1;
-            const double c2 = 3.0 * dY - 2.0 * s0 - s1, c3 = s0 + s1 - 2.0 * dY;
-            Yv              = Y[i] + t * (s0 + t * (c2 + t * c3));
-            const double Yt = s0 + t * (2.0 * c2 + 3.0 * t * c3); // dY/dt
-            dY_dX           = Yt * inv_D;
-            if (rates)
+            const Piece       q     = piece(ph, i, D);
+            Yv                      = q.value(t);
+            const double Yt         = q.slope(t); // dY/dt
+            dY_dX                   = Yt * inv_D;
+            if constexpr (rates)
               {
-                const auto   h  = hermite(t);
+                // At fixed X the phase moves t (through x_i, x_{i+1}) and the piece's data
+                // s = D m and w = D^2 kappa at both ends.
                 const double r0 = xr(ph, i), Dr = xr(ph, i + 1) - r0;
                 const double tr = -(r0 + t * Dr) * inv_D;
-                dY_dt = Yt * tr + Dr * (h[1] * m0 + h[3] * m1) +
-                        D * (h[1] * ph.rate(slope_index(i)) + h[3] * ph.rate(slope_index(i + 1)));
+                const auto   H  = quintic_basis(t);
+                const double s0r = Dr * q.m0 + D * ph.rate(slope_index(i)),
+                             s1r = Dr * q.m1 + D * ph.rate(slope_index(i + 1));
+                const double w0r = D * (2.0 * Dr * q.k0 + D * ph.rate(curvature_index(i))),
+                             w1r = D * (2.0 * Dr * q.k1 + D * ph.rate(curvature_index(i + 1)));
+                dY_dt = Yt * tr + H[0] * s0r + H[1] * w0r + H[2] * s1r + H[3] * w1r;
               }
           }
         const double F = std::exp(Yv);
@@ -221,15 +251,14 @@ namespace hertzgear::dynamics
         const std::size_t k = static_cast<std::size_t>(
           std::upper_bound(Y.begin(), Y.end(), Yt) - Y.begin() - 1);
         const double xk = x(ph, k), D = x(ph, k + 1) - xk;
-        const double m0 = slope(ph, k).m, m1 = slope(ph, k + 1).m;
-        // The cubic Y(t) on [0, 1], increasing (checked at construction): Newton steps kept
+        const Piece  q  = piece(ph, k, D);
+        // The quintic Y(t) on [0, 1], increasing (checked at construction): Newton steps kept
         // inside a shrinking bracket.
         double lo = 0.0, hi = 1.0, t = (Yt - Y[k]) / (Y[k + 1] - Y[k]);
         for (int it = 0; it < 100; ++it)
           {
-            const auto   h  = hermite(t);
-            const double r  = h[0] * Y[k] + h[2] * Y[k + 1] + D * (h[1] * m0 + h[3] * m1) - Yt;
-            const double dr = h[4] * Y[k] + h[6] * Y[k + 1] + D * (h[5] * m0 + h[7] * m1);
+            const double r  = q.value(t) - Yt;
+            const double dr = q.slope(t);
             (r < 0.0 ? lo : hi) = t;
             double next = dr > 0.0 ? t - r / dr : 0.5 * (lo + hi);
             if (!(next > lo && next < hi))
@@ -336,148 +365,303 @@ namespace hertzgear::dynamics
         const unsigned i = slope_index(k);
         return {ph.value(i), ph.rate(i)};
       }
-      // Where X_j and m_j lie among the member's coefficients.
-      static unsigned x_index(const std::size_t j) { return static_cast<unsigned>(2 * j); }
-      static unsigned slope_index(const std::size_t k) { return static_cast<unsigned>(2 * k + 1); }
+      // Where X_j, m_j and kappa_j lie among the member's coefficients.
+      static unsigned x_index(const std::size_t j) { return static_cast<unsigned>(3 * j); }
+      static unsigned slope_index(const std::size_t k) { return static_cast<unsigned>(3 * k + 1); }
+      static unsigned curvature_index(const std::size_t k) { return static_cast<unsigned>(3 * k + 2); }
+
+      // The quintic of interval i in t = (X - X_i) / D, D = X_{i+1} - X_i:
+      // Y(t) = Y_i + t (c1 + t (c2 + t (c3 + t (c4 + t c5)))), the Hermite quintic of the values,
+      // slopes s = D m and curvatures w = D^2 kappa (in t) at both ends.
+      struct Piece
+      {
+        double Y0, c1, c2, c3, c4, c5;
+        double m0, m1, k0, k1; // the data in X, for the rates
+        double value(const double t) const
+        {
+          return Y0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))));
+        }
+        double slope(const double t) const // dY/dt
+        {
+          return c1 + t * (2.0 * c2 + t * (3.0 * c3 + t * (4.0 * c4 + 5.0 * t * c5)));
+        }
+      };
+      template <class Phase>
+      Piece piece(const Phase &ph, const std::size_t i, const double D) const
+      {
+        Piece q;
+        q.m0 = ph.value(slope_index(i));
+        q.m1 = ph.value(slope_index(i + 1));
+        q.k0 = ph.value(curvature_index(i));
+        q.k1 = ph.value(curvature_index(i + 1));
+        const double dY = Y[i + 1] - Y[i], s0 = D * q.m0, s1 = D * q.m1, w0 = D * D * q.k0,
+                     w1 = D * D * q.k1;
+        q.Y0 = Y[i];
+        q.c1 = s0;
+        q.c2 = 0.5 * w0;
+        q.c3 = 10.0 * dY - 6.0 * s0 - 4.0 * s1 - 1.5 * w0 + 0.5 * w1;
+        q.c4 = -15.0 * dY + 8.0 * s0 + 7.0 * s1 + 1.5 * w0 - w1;
+        q.c5 = 6.0 * dY - 3.0 * (s0 + s1) - 0.5 * (w0 - w1);
+        return q;
+      }
+      // The quintic Hermite basis functions of s0, w0, s1, w1 (those of the slopes and
+      // curvatures; the values' do not move with the phase).
+      static std::array<double, 4> quintic_basis(const double t)
+      {
+        const double t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t;
+        return {t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5, 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5),
+                -4.0 * t3 + 7.0 * t4 - 3.0 * t5, 0.5 * (t3 - 2.0 * t4 + t5)};
+      }
       // The slope of the power law below the lowest rung.
       template <class Phase>
       double lowest_slope(const Phase &ph) const
       {
         return natural_low ? ph.value(slope_index(0)) : p;
       }
-      // The Taylor triples of the Hermite slopes m_j in (X, Y) from those of X_j: the cubic
-      // spline through the rungs (C2), its curvature at the top zero (natural: C2 into the
-      // straight-line extrapolation above) and at the lowest rung either zero too (natural) or its
-      // slope p (clamped). With g_i = 1 / (X_{i+1} - X_i) the slopes solve the tridiagonal
-      //   g_{i-1} m_{i-1} + 2 (g_{i-1} + g_i) m_i + g_i m_{i+1} = 3 (dY_{i-1} g_{i-1}^2 + dY_i g_i^2),
-      // 2 g_0 m_0 + g_0 m_1 = 3 dY_0 g_0^2 (natural) or m_0 = p (clamped), and
-      // g_{J-2} m_{J-2} + 2 g_{J-2} m_{J-1} = 3 dY_{J-2} g_{J-2}^2; their derivatives
-      // in the mesh angle solve A m' = r' - A' m and A m'' = r'' - A'' m - 2 A' m' with the same
-      // matrix.
-      void slopes(double *taylor) const
+      // A Taylor triple (value, first and second derivative in the mesh angle).
+      struct T3
+      {
+        double v = 0, d = 0, dd = 0;
+        T3     operator+(const T3 &o) const { return {v + o.v, d + o.d, dd + o.dd}; }
+        T3     operator-(const T3 &o) const { return {v - o.v, d - o.d, dd - o.dd}; }
+        T3     operator*(const T3 &o) const
+        {
+          return {v * o.v, d * o.v + v * o.d, dd * o.v + 2.0 * d * o.d + v * o.dd};
+        }
+        friend T3 operator*(const double c, const T3 &a) { return {c * a.v, c * a.d, c * a.dd}; }
+      };
+
+      // The Taylor triples of the slopes m_j and curvatures kappa_j of the quintic spline in
+      // (X, Y) through the rungs, from those of X_j. The spline is C4: at an interior rung, with
+      // g = 1 / (X_{i+1} - X_i) of the intervals left (L) and right (R) of it and dY their rises,
+      // the third and fourth derivatives of the two quintics agree:
+      //   -8 gL^2 m_{j-1} - gL k_{j-1} + 12 (gR^2 - gL^2) m_j + 3 (gL + gR) k_j + 8 gR^2 m_{j+1}
+      //     - gR k_{j+1} = 20 (dY_R gR^3 - dY_L gL^3),
+      //   -14 gL^3 m_{j-1} - 2 gL^2 k_{j-1} - 16 (gL^3 + gR^3) m_j + 3 (gL^2 - gR^2) k_j
+      //     - 14 gR^3 m_{j+1} + 2 gR^2 k_{j+1} = -30 (dY_L gL^4 + dY_R gR^4).
+      // At the top kappa = 0 and Y''' = 0 (C3 into the straight line above it):
+      //   -8 g^2 m_{J-2} - g k_{J-2} - 12 g^2 m_{J-1} + 3 g k_{J-1} = -20 dY g^3;
+      // at the lowest rung kappa = 0 and either Y''' = 0 too (natural: C3 into the power law of
+      // its slope below it), -12 g^2 m_0 - 3 g k_0 - 8 g^2 m_1 + g k_1 = -20 dY g^3, or m_0 = p
+      // (clamped). On a power law (Y linear in X) m = p and kappa = 0 solve it. The derivatives
+      // in the angle solve A z' = r' - A' z and A z'' = r'' - A'' z - 2 A' z' with the same
+      // factors.
+      void spline(double *taylor) const
       {
         const std::size_t J = Y.size();
-        // g_i and g_i^2 with their first two derivatives, from those of X.
-        std::array<double, max_rungs> g[3], G[3];
+        std::vector<T3>   g(J - 1);
         for (std::size_t i = 0; i + 1 < J; ++i)
           {
             const double *lo = taylor + 3 * x_index(i), *hi = taylor + 3 * x_index(i + 1);
             const double  h = hi[0] - lo[0], h1 = hi[1] - lo[1], h2 = hi[2] - lo[2];
-            g[0][i]         = 1.0 / h;
-            g[1][i]         = -h1 * g[0][i] * g[0][i];
-            g[2][i]         = (2.0 * h1 * h1 * g[0][i] - h2) * g[0][i] * g[0][i];
-            G[0][i]         = g[0][i] * g[0][i];
-            G[1][i]         = 2.0 * g[0][i] * g[1][i];
-            G[2][i]         = 2.0 * (g[1][i] * g[1][i] + g[0][i] * g[2][i]);
+            const double  g0 = 1.0 / h;
+            g[i]             = {g0, -h1 * g0 * g0, (2.0 * h1 * h1 * g0 - h2) * g0 * g0};
           }
-        // Row i: lower l[i] m_{i-1} + diagonal d[i] m_i + upper u[i] m_{i+1} = r[i], and the
-        // same rows' derivatives (index 1, 2).
-        std::array<double, max_rungs> l[3], d[3], u[3], r[3];
+        // The matrix as 2 x 2 blocks (rows of rung j: its two equations; columns of rung i: m_i,
+        // kappa_i): B[o][j][0, 1, 2] couple rung j to rungs j - 1, j, j + 1; derivative order o.
+        using Blocks = std::vector<std::array<Eigen::Matrix2d, 3>>;
+        std::array<Blocks, 3>                       B;
+        std::array<std::vector<Eigen::Vector2d>, 3> r;
         for (int o = 0; o < 3; ++o)
           {
-            if (natural_low && J > 1)
-              {
-                // 2 g_0 m_0 + g_0 m_1 = 3 dY_0 g_0^2.
-                l[o][0] = 0.0;
-                d[o][0] = 2.0 * g[o][0];
-                u[o][0] = g[o][0];
-                r[o][0] = 3.0 * (Y[1] - Y[0]) * G[o][0];
-              }
-            else
-              {
-                l[o][0] = u[o][0] = 0.0;
-                d[o][0]           = o == 0 ? 1.0 : 0.0;
-                r[o][0]           = o == 0 ? p : 0.0;
-              }
-            for (std::size_t i = 1; i < J; ++i)
-              {
-                const bool last = i + 1 == J;
-                l[o][i]         = g[o][i - 1];
-                u[o][i]         = last ? 0.0 : g[o][i];
-                d[o][i]         = 2.0 * (g[o][i - 1] + (last ? 0.0 : g[o][i]));
-                r[o][i] = 3.0 * ((Y[i] - Y[i - 1]) * G[o][i - 1] + (last ? 0.0 : (Y[i + 1] - Y[i]) * G[o][i]));
-              }
+            B[o].assign(J, {Eigen::Matrix2d::Zero(), Eigen::Matrix2d::Zero(), Eigen::Matrix2d::Zero()});
+            r[o].assign(J, Eigen::Vector2d::Zero());
           }
-        // The Thomas algorithm on A = (l[0], d[0], u[0]): the forward sweep once, then three
-        // right-hand sides.
-        std::array<double, max_rungs> pivot, factor;
-        pivot[0] = d[0][0];
-        for (std::size_t i = 1; i < J; ++i)
+        // Equation e (0, 1) of rung j: the coefficient of m (kappa) of rung j + d, d = -1, 0, 1.
+        const auto set_m = [&](const std::size_t j, const int e, const int d, const T3 &v) {
+          B[0][j][d + 1](e, 0) = v.v;
+          B[1][j][d + 1](e, 0) = v.d;
+          B[2][j][d + 1](e, 0) = v.dd;
+        };
+        const auto set_k = [&](const std::size_t j, const int e, const int d, const T3 &v) {
+          B[0][j][d + 1](e, 1) = v.v;
+          B[1][j][d + 1](e, 1) = v.d;
+          B[2][j][d + 1](e, 1) = v.dd;
+        };
+        const auto rhs = [&](const std::size_t j, const int e, const T3 &v) {
+          r[0][j](e) = v.v;
+          r[1][j](e) = v.d;
+          r[2][j](e) = v.dd;
+        };
+        const T3 one{1.0, 0.0, 0.0};
+        // Lowest rung: kappa_0 = 0; natural Y''' = 0 or clamped m_0 = p.
+        set_k(0, 0, 0, one);
+        if (natural_low)
           {
-            factor[i] = l[0][i] / pivot[i - 1];
-            pivot[i]  = d[0][i] - factor[i] * u[0][i - 1];
+            const T3 g1 = g[0], g2 = g1 * g1, g3 = g2 * g1;
+            set_m(0, 1, 0, -12.0 * g2);
+            set_k(0, 1, 0, -3.0 * g1);
+            set_m(0, 1, 1, -8.0 * g2);
+            set_k(0, 1, 1, g1);
+            rhs(0, 1, -20.0 * (Y[1] - Y[0]) * g3);
           }
-        const auto solve = [&](std::array<double, max_rungs> &x) {
-          for (std::size_t i = 1; i < J; ++i)
-            x[i] -= factor[i] * x[i - 1];
-          x[J - 1] /= pivot[J - 1];
-          for (std::size_t i = J - 1; i-- > 0;)
-            x[i] = (x[i] - u[0][i] * x[i + 1]) / pivot[i];
-        };
-        // (A^(o) v)_i.
-        const auto apply = [&](const int o, const std::array<double, max_rungs> &v, const std::size_t i) {
-          return (i > 0 ? l[o][i] * v[i - 1] : 0.0) + d[o][i] * v[i] +
-                 (i + 1 < J ? u[o][i] * v[i + 1] : 0.0);
-        };
-        std::array<double, max_rungs> m0 = r[0], m1{}, m2{};
-        solve(m0);
-        for (std::size_t i = 0; i < J; ++i)
-          m1[i] = r[1][i] - apply(1, m0, i);
-        solve(m1);
-        for (std::size_t i = 0; i < J; ++i)
-          m2[i] = r[2][i] - apply(2, m0, i) - 2.0 * apply(1, m1, i);
-        solve(m2);
-        for (std::size_t k = 0; k < J; ++k)
+        else
           {
-            double *out = taylor + 3 * slope_index(k);
-            out[0]      = m0[k];
-            out[1]      = m1[k];
-            out[2]      = m2[k];
+            set_m(0, 1, 0, one);
+            rhs(0, 1, p * one);
+          }
+        for (std::size_t j = 1; j + 1 < J; ++j)
+          {
+            const T3 gL = g[j - 1], gR = g[j], gL2 = gL * gL, gR2 = gR * gR, gL3 = gL2 * gL,
+                     gR3 = gR2 * gR;
+            const double dL = Y[j] - Y[j - 1], dR = Y[j + 1] - Y[j];
+            set_m(j, 0, -1, -8.0 * gL2);
+            set_k(j, 0, -1, -1.0 * gL);
+            set_m(j, 0, 0, 12.0 * (gR2 - gL2));
+            set_k(j, 0, 0, 3.0 * (gL + gR));
+            set_m(j, 0, 1, 8.0 * gR2);
+            set_k(j, 0, 1, -1.0 * gR);
+            rhs(j, 0, 20.0 * (dR * gR3 - dL * gL3));
+            set_m(j, 1, -1, -14.0 * gL3);
+            set_k(j, 1, -1, -2.0 * gL2);
+            set_m(j, 1, 0, -16.0 * (gL3 + gR3));
+            set_k(j, 1, 0, 3.0 * (gL2 - gR2));
+            set_m(j, 1, 1, -14.0 * gR3);
+            set_k(j, 1, 1, 2.0 * gR2);
+            rhs(j, 1, -30.0 * (dL * (gL3 * gL) + dR * (gR3 * gR)));
+          }
+        // Top: kappa = 0 and Y''' = 0.
+        const std::size_t top = J - 1;
+        const T3          g1 = g[top - 1], g2 = g1 * g1, g3 = g2 * g1;
+        set_k(top, 0, 0, one);
+        set_m(top, 1, -1, -8.0 * g2);
+        set_k(top, 1, -1, -1.0 * g1);
+        set_m(top, 1, 0, -12.0 * g2);
+        set_k(top, 1, 0, 3.0 * g1);
+        rhs(top, 1, -20.0 * (Y[top] - Y[top - 1]) * g3);
+
+        // (A_o z)_j, from the blocks.
+        using Vec = std::vector<Eigen::Vector2d>;
+        const auto apply = [&](const int o, const Vec &z, const std::size_t j) {
+          Eigen::Vector2d v = B[o][j][1] * z[j];
+          if (j > 0)
+            v += B[o][j][0] * z[j - 1];
+          if (j + 1 < J)
+            v += B[o][j][2] * z[j + 1];
+          return v;
+        };
+        // Block elimination (block LU without pivoting between rungs), checked by the residual
+        // of its solution; where that is not at the rounding of the data (a block pivot too
+        // small), a dense LU with partial pivoting.
+        std::vector<Eigen::Matrix2d> pivot_inverse(J), multiplier(J);
+        pivot_inverse[0] = B[0][0][1].inverse();
+        for (std::size_t j = 1; j < J; ++j)
+          {
+            multiplier[j]    = B[0][j][0] * pivot_inverse[j - 1];
+            pivot_inverse[j] = (B[0][j][1] - multiplier[j] * B[0][j - 1][2]).inverse();
+          }
+        const auto block_solve = [&](Vec y) {
+          for (std::size_t j = 1; j < J; ++j)
+            y[j] -= multiplier[j] * y[j - 1];
+          for (std::size_t j = J; j-- > 0;)
+            y[j] = pivot_inverse[j] * (j + 1 < J ? Eigen::Vector2d(y[j] - B[0][j][2] * y[j + 1]) : y[j]);
+          return y;
+        };
+        Vec    z0 = block_solve(r[0]);
+        double residual = 0.0, size = 0.0;
+        for (std::size_t j = 0; j < J; ++j)
+          {
+            residual = std::max(residual, (apply(0, z0, j) - r[0][j]).cwiseAbs().maxCoeff());
+            size     = std::max(size, r[0][j].cwiseAbs().maxCoeff() +
+                                      (B[0][j][0].cwiseAbs() + B[0][j][1].cwiseAbs() + B[0][j][2].cwiseAbs()).maxCoeff() *
+                                        z0[j].cwiseAbs().maxCoeff());
+          }
+        const bool blocks = std::isfinite(residual) && residual <= 1e-13 * size;
+        Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+        Eigen::VectorXd                      row_scale;
+        const auto dense_solve = [&](const Vec &b) {
+          Eigen::VectorXd v(2 * J);
+          for (std::size_t j = 0; j < J; ++j)
+            v.segment<2>(2 * j) = b[j];
+          v = lu.solve(row_scale.asDiagonal() * v);
+          Vec y(J);
+          for (std::size_t j = 0; j < J; ++j)
+            y[j] = v.segment<2>(2 * j);
+          return y;
+        };
+        if (!blocks)
+          {
+            Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * J, 2 * J);
+            for (std::size_t j = 0; j < J; ++j)
+              for (int d = -1; d <= 1; ++d)
+                if (long(j) + d >= 0 && long(j) + d < long(J))
+                  A.block<2, 2>(2 * j, 2 * (j + d)) = B[0][j][d + 1];
+            // Rows equilibrated (their powers of g differ by up to g^4).
+            row_scale = A.cwiseAbs().rowwise().maxCoeff().cwiseInverse();
+            lu.compute(row_scale.asDiagonal() * A);
+            z0 = dense_solve(r[0]);
+          }
+        const auto solve = [&](const Vec &b) { return blocks ? block_solve(b) : dense_solve(b); };
+        Vec b1(J), b2(J);
+        for (std::size_t j = 0; j < J; ++j)
+          b1[j] = r[1][j] - apply(1, z0, j);
+        const Vec z1 = solve(b1);
+        for (std::size_t j = 0; j < J; ++j)
+          b2[j] = r[2][j] - apply(2, z0, j) - 2.0 * apply(1, z1, j);
+        const Vec z2 = solve(b2);
+        for (std::size_t j = 0; j < J; ++j)
+          {
+            double *slope_out = taylor + 3 * slope_index(j), *curvature_out = taylor + 3 * curvature_index(j);
+            slope_out[0]      = z0[j](0);
+            slope_out[1]      = z1[j](0);
+            slope_out[2]      = z2[j](0);
+            curvature_out[0]  = z0[j](1);
+            curvature_out[1]  = z1[j](1);
+            curvature_out[2]  = z2[j](1);
           }
       }
 
     public:
       // Where the interpolant does not grow with the compression at the phase of `taylor`: the
       // interval k (between rungs k and k + 1; J - 1 for the straight line above the top) whose
-      // slope dY/dX = 6 d t (1 - t) + m_k (3t^2 - 4t + 1) + m_{k+1} (3t^2 - 2t), d its secant,
-      // is not positive somewhere on [0, 1], or -1.
+      // slope dY/dt, a quartic in t, is not positive somewhere on [0, 1], or -1. The quartic's
+      // Bernstein coefficients bound it from below; where they do not prove it positive its
+      // halves are examined (de Casteljau), and one still unproven on 2^-30 of the interval
+      // counts as not growing.
       long not_monotone(const std::vector<double> &taylor) const
       {
         const MeshPhase   ph{taylor.data(), 0.0, 0.0};
         const std::size_t J = Y.size();
         for (std::size_t k = 0; k + 1 < J; ++k)
           {
-            const double dk = (Y[k + 1] - Y[k]) / (x(ph, k + 1) - x(ph, k));
-            const double m0 = slope(ph, k).m, m1 = slope(ph, k + 1).m;
-            const double qa = -6.0 * dk + 3.0 * m0 + 3.0 * m1, qb = 6.0 * dk - 4.0 * m0 - 2.0 * m1;
-            double       low = std::min(m0, m1);
-            if (qa > 0.0 && -qb > 0.0 && -qb < 2.0 * qa)
-              low = std::min(low, m0 - qb * qb / (4.0 * qa));
-            if (!(low > 0.0))
+            const Piece  q    = piece(ph, k, x(ph, k + 1) - x(ph, k));
+            const double a[5] = {q.c1, 2.0 * q.c2, 3.0 * q.c3, 4.0 * q.c4, 5.0 * q.c5};
+            // Bernstein coefficients of degree 4: b_i = sum_{j <= i} C(i, j) / C(4, j) a_j.
+            static constexpr double C[5][5] = {{1, 0, 0, 0, 0},
+                                               {1, 0.25, 0, 0, 0},
+                                               {1, 0.5, 1.0 / 6.0, 0, 0},
+                                               {1, 0.75, 0.5, 0.25, 0},
+                                               {1, 1, 1, 1, 1}};
+            std::array<double, 5> bernstein{};
+            for (int i = 0; i < 5; ++i)
+              for (int j = 0; j <= i; ++j)
+                bernstein[i] += C[i][j] * a[j];
+            if (!positive(bernstein, 0))
               return static_cast<long>(k);
           }
         return slope(ph, J - 1).m > 0.0 ? -1 : static_cast<long>(J - 1);
       }
 
     private:
-      // The rung interval k with X_k <= X < X_{k+1} (X inside the ladder).
-      template <class Phase>
-      std::size_t interval(const Phase &ph, const double X) const
+      // Whether the quartic of Bernstein coefficients b is positive on its interval.
+      static bool positive(const std::array<double, 5> &b, const int depth)
       {
-        std::size_t lo = 0, hi = Y.size() - 1;
-        while (hi - lo > 1)
+        if (!(b[0] > 0.0 && b[4] > 0.0))
+          return false; // its values at the ends
+        if (*std::min_element(b.begin(), b.end()) > 0.0)
+          return true;
+        if (depth == 30)
+          return false;
+        // Its halves (de Casteljau at 1/2).
+        std::array<double, 5> left{}, right{}, w = b;
+        for (int level = 0; level < 5; ++level)
           {
-            const std::size_t mid = (lo + hi) / 2;
-            (x(ph, mid) <= X ? lo : hi) = mid;
+            left[level]      = w[0];
+            right[4 - level] = w[4 - level];
+            for (int i = 0; i + level < 4; ++i)
+              w[i] = 0.5 * (w[i] + w[i + 1]);
           }
-        return lo;
-      }
-      // h00, h10, h01, h11 and their derivatives in t.
-      static std::array<double, 8> hermite(const double t)
-      {
-        const double t2 = t * t, t3 = t2 * t;
-        return {2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2,
-                6 * t2 - 6 * t,      3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t};
+        return positive(left, depth + 1) && positive(right, depth + 1);
       }
 
       // Positions per cycle the law takes (the interpolant's harmonics are at most half of them).
@@ -487,6 +671,9 @@ namespace hertzgear::dynamics
       std::vector<double>        mean_secant; // their means over the cycle
       std::vector<double>        cos_coefficient, sin_coefficient; // a_jh, b_jh
       std::vector<double>        constant_x;  // X_j at the mean coefficients
+      static constexpr unsigned  buckets = 4 * max_rungs;
+      std::array<int, buckets>   bucket_interval{}; // of constant_x, at each bucket's left edge
+      double                     bucket_scale = 0; // buckets per unit of X
       unsigned                   harmonics = 0;
       double                     p;
       bool                       natural_low; // the spline's lowest end natural, else clamped to p
@@ -622,8 +809,12 @@ namespace hertzgear::dynamics
                                  k + 1 < long(J) ? "between the rungs of " : "above the top rung of ",
                                  table.ladder.load_N[std::min<long>(k, J - 1)], " N",
                                  k + 1 < long(J) ? " and " + std::to_string(table.ladder.load_N[k + 1]) + " N" : std::string(),
-                                 " does not grow with the compression: the ladder needs rungs "
-                                 "closer together where its stiffness changes fast");
+                                 " does not grow with the compression: the smooth interpolant "
+                                 "through its rungs cannot follow its stiffness there (a kink of "
+                                 "the FE's stiffness in the load, as where a crowned contact "
+                                 "crosses the contact grid's cells, which "
+                                 "Stiffness/contact_grid_face_extent = load avoids, or rungs too "
+                                 "far apart where it changes fast)");
                 if (i % 8 == 0)
                   taylors.push_back(taylor);
               }
@@ -640,10 +831,10 @@ namespace hertzgear::dynamics
       // One phase coefficient: the mesh angle theta (its Taylor triple theta, 1, 0 is exact).
       unsigned n_phase_coefficients() const override { return 1; }
       bool     varies_with_phase() const override { return structural.varies() || hertz.varies(); }
-      void     phase_coefficients(const double c1, const double s1, double *taylor) const override
+      void     phase_coefficients(const double theta, double, double, double *taylor) const override
       {
-        const double theta = std::atan2(s1, c1);
-        taylor[0]          = theta < 0.0 ? theta + 2.0 * M_PI : theta;
+        const double period = 2.0 * M_PI;
+        taylor[0] = theta >= 0.0 && theta < period ? theta : theta - period * std::floor(theta / period);
         taylor[1]          = 1.0;
         taylor[2]          = 0.0;
       }
@@ -651,28 +842,10 @@ namespace hertzgear::dynamics
       void forces(const MeshPhase &phase, const double u, const double d, MeshLawForces &out,
                   const bool rates) const override
       {
-        const auto member = [&](const LadderMember &m, const auto &ph, const double a,
-                                const double p, double &F, double &dF_da, double &dF_dt) {
-          if (a == 0.0)
-            {
-              // F = c_0 a^p near zero: slope c_0 for p = 1, else 0.
-              F     = 0.0;
-              dF_dt = 0.0;
-              dF_da = p == 1.0 ? m.force(ph, 1.0e-30, false).dF_da : 0.0;
-              return;
-            }
-          const MemberForce f = m.force(ph, std::abs(a), rates);
-          F                   = sign(a) * f.F;
-          dF_da               = f.dF_da;
-          dF_dt               = sign(a) * f.dF_dt;
-        };
-        with_phases(phase, rates, [&](const auto &structural_phase, const auto &hertz_phase) {
-          member(structural, structural_phase, u, 1.0, out.structural, out.structural_du,
-                 out.structural_dt);
-          member(hertz, hertz_phase, d, n, out.hertz, out.hertz_ddelta, out.hertz_dt);
-        });
-        out.damping_weight       = power_law::H(d, n);
-        out.damping_weight_slope = power_law::H_prime(d, n);
+        if (rates)
+          forces<true>(phase, u, d, out);
+        else
+          forces<false>(phase, u, d, out);
       }
 
       double quasi_static_penetration(const MeshPhase &phase, const double f) const override
@@ -726,6 +899,34 @@ namespace hertzgear::dynamics
       double tabulated_force_limit() const override { return top; }
 
     private:
+      template <bool rates>
+      void forces(const MeshPhase &phase, const double u, const double d, MeshLawForces &out) const
+      {
+        const auto member = [&](const LadderMember &m, const auto &ph, const double a,
+                                const double p, double &F, double &dF_da, double &dF_dt) {
+          if (a == 0.0)
+            {
+              // F = c_0 a^p near zero: slope c_0 for p = 1, else 0.
+              F     = 0.0;
+              dF_dt = 0.0;
+              dF_da = p == 1.0 ? m.template force<false>(ph, 1.0e-30).dF_da : 0.0;
+              return;
+            }
+          const double        s = sign(a);
+          const MemberForce   f = m.template force<rates>(ph, s * a);
+          F                     = s * f.F;
+          dF_da                 = f.dF_da;
+          dF_dt                 = s * f.dF_dt;
+        };
+        with_phases(phase, rates, [&](const auto &structural_phase, const auto &hertz_phase) {
+          member(structural, structural_phase, u, 1.0, out.structural, out.structural_du,
+                 out.structural_dt);
+          member(hertz, hertz_phase, d, n, out.hertz, out.hertz_ddelta, out.hertz_dt);
+        });
+        out.damping_weight       = power_law::H(d, n);
+        out.damping_weight_slope = power_law::H_prime(d, n);
+      }
+
       static std::vector<std::vector<double>> structural_part(const table::LoadLadder &l)
       {
         auto u = l.approach_m;
@@ -735,8 +936,8 @@ namespace hertzgear::dynamics
         return u;
       }
 
-      // Coefficients per member (Taylor triples of X_j and m_j).
-      unsigned per_member() const { return 3 * 2 * J; }
+      // Coefficients per member (Taylor triples of X_j, m_j and kappa_j).
+      unsigned per_member() const { return 3 * 3 * J; }
 
       // Calls f(structural phase, Hertzian phase) with each member's coefficients at the mesh
       // angle of `phase`: its table over the cycle (GridPhase) if it varies, else its constant
@@ -758,8 +959,10 @@ namespace hertzgear::dynamics
 
       // The tables over the cycle of the members that vary: N = 2^k nodes, from 64 up, doubled
       // until the quintic reproduces every coefficient at every cell's midpoint within 1e-12
-      // (X_j: of the logarithm, so relative in the compression; m_j: of the slope, ~1) and its
-      // rate within 1e-10 per radian or the rounding floor of the rate, whichever is larger.
+      // (X_j: of the logarithm, so relative in the compression; m_j: of the slope, ~1; kappa_j:
+      // its effect on log F, at most max|H| D^2 times its error, LadderMember::curvature_weight)
+      // and its rate within 1e-10 per radian or the rounding floor of the rate, whichever is
+      // larger.
       void tabulate()
       {
         if (!varies_with_phase())
@@ -795,8 +998,10 @@ namespace hertzgear::dynamics
                     const GridPhase g(*grid, per, cell);
                     for (unsigned c = 0; 3 * c < per; ++c)
                       {
-                        value_error = std::max(value_error, std::abs(g.value(c) - exact[3 * c]));
-                        rate_error  = std::max(rate_error, std::abs(g.rate(c) - exact[3 * c + 1]));
+                        // c = 3 j + 0, 1, 2: X_j, m_j, kappa_j.
+                        const double weight = c % 3 == 2 ? m->curvature_weight() : 1.0;
+                        value_error = std::max(value_error, weight * std::abs(g.value(c) - exact[3 * c]));
+                        rate_error  = std::max(rate_error, weight * std::abs(g.rate(c) - exact[3 * c + 1]));
                       }
                   }
               }

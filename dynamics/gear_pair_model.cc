@@ -259,7 +259,7 @@ namespace hertzgear::dynamics
         ls.keys[slot] = key;
         ls.frac[slot] = frac;
         angle();
-        law->phase_coefficients(c1, s1, lt);
+        law->phase_coefficients(2.0 * M_PI * frac, c1, s1, lt);
       }
     Coefficients r;
     // The angle from the entry's phase (0 when this phase filled it; across 0 = 1 the short way).

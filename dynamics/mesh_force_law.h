@@ -78,9 +78,10 @@ namespace hertzgear::dynamics
     virtual unsigned n_phase_coefficients() const = 0;
     // Whether any of them varies with the phase (else the law is autonomous).
     virtual bool varies_with_phase() const = 0;
-    // The Taylor triples of every coefficient at the mesh angle theta, given by cos(theta) and
-    // sin(theta), into taylor[3 i .. 3 i + 2].
-    virtual void phase_coefficients(double cos_theta, double sin_theta, double *taylor) const = 0;
+    // The Taylor triples of every coefficient at the mesh angle theta in [0, 2 pi), given with
+    // its cos(theta) and sin(theta), into taylor[3 i .. 3 i + 2].
+    virtual void phase_coefficients(double theta, double cos_theta, double sin_theta,
+                                    double *taylor) const = 0;
 
     // The forces at (phase, u, delta). Without `rates` the derivatives in time at fixed
     // compression (structural_dt, hertz_dt) are left 0: only the quasi-static layer needs them,

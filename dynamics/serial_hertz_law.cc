@@ -36,7 +36,7 @@ namespace hertzgear::dynamics
       {
         return !(k_series.constant() && kh_series.constant());
       }
-      void phase_coefficients(const double c1, const double s1, double *taylor) const override
+      void phase_coefficients(double, const double c1, const double s1, double *taylor) const override
       {
         k_series.taylor(c1, s1, taylor);
         kh_series.taylor(c1, s1, taylor + 3);

@@ -21,7 +21,7 @@ namespace hertzgear::dynamics::testing
     PhaseAt(const MeshForceLaw &law, const double theta)
       : taylor(3 * law.n_phase_coefficients())
     {
-      law.phase_coefficients(std::cos(theta), std::sin(theta), taylor.data());
+      law.phase_coefficients(theta, std::cos(theta), std::sin(theta), taylor.data());
       phase = MeshPhase{taylor.data(), 0.0, 1.0};
     }
   };

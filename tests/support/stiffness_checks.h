@@ -140,7 +140,7 @@ namespace hertzgear::testing
     const auto at_phase = [&](const std::size_t s) {
       auto taylor = std::make_shared<std::vector<double>>(3 * law->n_phase_coefficients());
       const double theta = 2.0 * M_PI * double(s) / double(S);
-      law->phase_coefficients(std::cos(theta), std::sin(theta), taylor->data());
+      law->phase_coefficients(theta, std::cos(theta), std::sin(theta), taylor->data());
       return taylor;
     };
     // (1) At the rungs.
