@@ -755,7 +755,8 @@ namespace hertzgear
     return md.str();
   }
 
-  std::string ParameterFile::print(const Style style, const Order order) const
+  std::string ParameterFile::print(const Style style, const Order order,
+                                  const std::function<bool(const Entry &)> &omit) const
   {
     const bool         documented = style == Style::documented;
     std::ostringstream out;
@@ -765,9 +766,12 @@ namespace hertzgear
     const std::function<void(const Section &, unsigned int)> print_section =
       [&](const Section &section, const unsigned int level) {
         const std::string indent(2 * level, ' ');
-        const auto        entries =
-          in_order<Entry>(section.entries, order,
-                          [](const Entry &e) -> const std::string & { return e.name; });
+        auto entries = in_order<Entry>(section.entries, order,
+                                       [](const Entry &e) -> const std::string & { return e.name; });
+        if (omit)
+          entries.erase(std::remove_if(entries.begin(), entries.end(),
+                                       [&](const Entry *e) { return omit(*e); }),
+                        entries.end());
         std::size_t       longest_key = 0, longest_value = 0;
         for (const Entry *e : entries)
           {

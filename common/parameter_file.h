@@ -219,7 +219,10 @@ namespace hertzgear
     // ParameterFileError (without a source) for an unknown entry or a value it refuses.
     void set(const std::string &section, const std::string &key, const std::string &value);
 
-    std::string print(Style style, Order order = Order::declaration) const;
+    // `omit`, when given, leaves out the entries it holds for (the width of the columns is that of
+    // the entries printed): a hash that ignores entries at a value that means "absent".
+    std::string print(Style style, Order order = Order::declaration,
+                      const std::function<bool(const Entry &)> &omit = {}) const;
     // The reference of every entry as Markdown, in declaration order: a "## Section/Sub" heading
     // with the subsection's help texts wherever the section changes, then a table of key,
     // default, allowed values and meaning ('|' escaped).
