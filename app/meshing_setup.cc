@@ -11,6 +11,8 @@ namespace hertzgear
     p.module_mm                     = g.module_mm;
     p.pressure_angle_rad            = g.pressure_angle_deg * M_PI / 180;
     p.face_width_mm                 = g.face_width_mm;
+    p.helix_angle_rad               = g.helix_angle_deg * M_PI / 180;
+    p.hand = g.hand == "left" ? meshing::HelixHand::left : meshing::HelixHand::right;
     p.profile_shift_coefficient     = g.profile_shift_coefficient;
     p.addendum_coefficient          = g.addendum_coefficient;
     p.dedendum_coefficient          = g.dedendum_coefficient;

@@ -78,7 +78,7 @@ namespace hertzgear
 
     // Declaration of one gear's geometry, with the defaults of the paper's pinion or gear.
     void declare_gear(SceneSchema &s, GearScene &g, const std::string &name, int teeth,
-                      double bore_radius_mm)
+                      double bore_radius_mm, const std::string &hand)
     {
       s.enter(name, "Geometry of the " + std::string(name == "Pinion" ? "driving pinion" : "driven gear") +
                       ", cut by the ISO 53 basic rack.");
@@ -89,6 +89,16 @@ namespace hertzgear
             "Pressure angle of the basic rack alpha_P [deg]; both gears share it.");
       s.add("face_width_mm", g.face_width_mm, 20.0, Patterns::Double(0.1, 2000.0),
             "Face width b [mm].");
+      // Per gear, as ISO 21771 gives them; check_consistency requires the pair to match.
+      s.add("helix_angle_deg", g.helix_angle_deg, 0.0, Patterns::Double(0.0, 45.0),
+            "Helix angle beta at the reference circle [deg] (ISO 21771), in [0, 45); 0 = spur. "
+            "Given per gear as in ISO 21771; both gears of a pair must give the same value "
+            "(checked). module_mm and pressure_angle_deg are then the normal values m_n, alpha_n. "
+            "Helical pairs are taken by `hertzgear geometry` only so far; the stiffness sources, "
+            "the FE stage and ISO 6336 refuse them.");
+      s.add("hand", g.hand, hand, Patterns::Selection("right|left"),
+            "Hand of the helix: right or left (defaults: pinion right, gear left); an external "
+            "pair needs opposite hands (checked). Ignored when helix_angle_deg = 0.");
       s.add("profile_shift_coefficient", g.profile_shift_coefficient, 0.0,
             Patterns::Double(-1.5, 2.0),
             "Profile shift coefficient x [dimensionless, in modules]; positive moves the rack away.");
@@ -511,9 +521,10 @@ namespace hertzgear
 
     void declare_scene(SceneSchema &s, Scene &sc)
     {
-      s.enter("Gear pair", "The spur gear pair: pinion (driving) and gear (driven).");
-      declare_gear(s, sc.pinion, "Pinion", 23, 15.0);
-      declare_gear(s, sc.gear, "Gear", 34, 20.0);
+      s.enter("Gear pair", "The gear pair: pinion (driving) and gear (driven); spur, or helical "
+                           "(helix_angle_deg > 0, for `hertzgear geometry` only so far).");
+      declare_gear(s, sc.pinion, "Pinion", 23, 15.0, "right");
+      declare_gear(s, sc.gear, "Gear", 34, 20.0, "left");
       s.leave();
 
       s.enter("Material", "Materials of both bodies.");
@@ -584,6 +595,19 @@ namespace hertzgear
                        "impossible gear pair: Gear pair/Pinion/pressure_angle_deg = ",
                        p.pressure_angle_deg, " differs from Gear pair/Gear/pressure_angle_deg = ",
                        g.pressure_angle_deg, "; spur gears in mesh share one pressure angle");
+      for (const auto &[name, gear] : {std::pair<const char *, const GearScene *>{"Pinion", &p},
+                                       std::pair<const char *, const GearScene *>{"Gear", &g}})
+        HG_REQUIRE_INPUT(gear->helix_angle_deg < 45.0, "Gear pair/", name, "/helix_angle_deg = ",
+                         gear->helix_angle_deg, " is outside [0, 45) deg");
+      HG_REQUIRE_INPUT(p.helix_angle_deg == g.helix_angle_deg,
+                       "impossible gear pair: Gear pair/Pinion/helix_angle_deg = ", p.helix_angle_deg,
+                       " differs from Gear pair/Gear/helix_angle_deg = ", g.helix_angle_deg,
+                       "; the gears of an external helical pair share one helix angle (with "
+                       "opposite hands)");
+      HG_REQUIRE_INPUT(p.helix_angle_deg == 0 || p.hand != g.hand,
+                       "impossible gear pair: Gear pair/Pinion/hand = ", p.hand,
+                       " and Gear pair/Gear/hand = ", g.hand, " are the same; an external helical "
+                       "pair needs opposite hands (one right, one left)");
       const std::pair<const char *, const GearScene *> gears[] = {{"Pinion", &p}, {"Gear", &g}};
       for (const auto &[name, gear] : gears)
         {
@@ -666,6 +690,17 @@ namespace hertzgear
                        " must be less than Sweep/periods_per_point = ", w.periods_per_point);
     }
 
+    // Whether `entry` is a helix key of a spur gear (helix_angle_deg = 0) of `sc`. Those stay out of
+    // the scene hash: a spur scene keeps the hash it had before the keys existed (stiffness tables
+    // and run.json record it), whichever hand it names and however it writes 0.
+    bool is_spur_helix_key(const Scene &sc, const ParameterFile::Entry &entry)
+    {
+      const GearScene *gear = entry.section() == "Gear pair/Pinion" ? &sc.pinion :
+                              entry.section() == "Gear pair/Gear"   ? &sc.gear :
+                                                                      nullptr;
+      return gear != nullptr && gear->helix_angle_deg == 0 &&
+             (entry.key() == "helix_angle_deg" || entry.key() == "hand");
+    }
   } // namespace
 
   Scene load_scene(const fs::path &file, const std::vector<std::string> &overrides)
@@ -725,7 +760,10 @@ namespace hertzgear
 
     sc.used_parameters_prm = schema.prm.print(ParameterFile::Style::documented);
     sc.hash = hash_hex(schema.prm.print(ParameterFile::Style::short_form,
-                                        ParameterFile::Order::alphabetical));
+                                        ParameterFile::Order::alphabetical,
+                                        [&sc](const ParameterFile::Entry &e) {
+                                          return is_spur_helix_key(sc, e);
+                                        }));
     return sc;
   }
 

@@ -16,6 +16,8 @@ namespace hertzgear
     double      module_mm                     = 0;
     double      pressure_angle_deg            = 0;
     double      face_width_mm                 = 0;
+    double      helix_angle_deg               = 0; // beta at the reference circle; 0 = spur
+    std::string hand;                              // right | left (ignored for a spur gear)
     double      profile_shift_coefficient     = 0; // x, in modules
     double      addendum_coefficient          = 0; // h_aP / m of the basic rack
     double      dedendum_coefficient          = 0; // h_fP / m of the basic rack
@@ -176,7 +178,8 @@ namespace hertzgear
 
     // The whole parameter set as resolved (defaults + file + overrides), in .prm form.
     std::string used_parameters_prm;
-    // Stable hash of used_parameters_prm.
+    // Stable hash of used_parameters_prm (without the helix keys of a spur gear, so that spur
+    // scenes keep the hash they had before those keys).
     std::string hash;
   };
 

@@ -74,6 +74,7 @@ namespace hertzgear
     {
       static const std::map<std::string, std::string> keys = {
         {"pressure_angle_rad", "pressure_angle_deg"},
+        {"helix_angle_rad", "helix_angle_deg"},
         {"crowning_mm", "crowning_um"},
         {"tip_relief_mm", "tip_relief_um"},
         {"helix_slope_deviation_mm", "helix_slope_deviation_um"},

@@ -1,6 +1,7 @@
 // Requirements on scene files: the paper's scenes carry Tables 1 and 2; overrides apply in order;
 // the printed defaults parse back to the same values; bad input names file, line and key.
 #include "app/dynamics_setup.h"
+#include "app/meshing_setup.h"
 #include "app/scene.h"
 #include "common/errors.h"
 
@@ -94,6 +95,34 @@ TEST(Scene, OverridesApplyInOrderAndChangeTheHash)
   EXPECT_DOUBLE_EQ(s.gear.crowning_um, 80.0);
   EXPECT_NE(s.hash, base.hash);
   EXPECT_THAT(s.used_parameters_prm, HasSubstr("2000"));
+}
+
+// Requirement: the helix keys are per gear (ISO 21771) and converted to the meshing stage's
+// radians and hands; a spur gear's helix keys (helix angle 0) stay out of the scene hash, so a spur
+// scene keeps the hash it had before those keys existed (run.json and the stiffness tables record
+// it): ee57e12182fca8d8 for paper_uncrowned.prm, whatever hand or spelling of 0 it gives; a helical
+// scene has its own hash.
+TEST(Scene, HelixKeysConvertAndLeaveTheSpurHashAsItWas)
+{
+  const Scene helical = load_scene(scene_path("paper_helical.prm"));
+  EXPECT_DOUBLE_EQ(helical.pinion.helix_angle_deg, 15.0);
+  EXPECT_EQ(helical.pinion.hand, "right");
+  EXPECT_EQ(helical.gear.hand, "left");
+  const auto pair = pair_parameters(helical);
+  EXPECT_EQ(pair.pinion.helix_angle_rad, 15.0 * M_PI / 180);
+  EXPECT_EQ(pair.gear.helix_angle_rad, 15.0 * M_PI / 180);
+  EXPECT_EQ(pair.pinion.hand, meshing::HelixHand::right);
+  EXPECT_EQ(pair.gear.hand, meshing::HelixHand::left);
+
+  const Scene spur = load_scene(scene_path("paper_uncrowned.prm"));
+  EXPECT_EQ(spur.hash, "ee57e12182fca8d8") << "the hash of paper_uncrowned.prm before the helix keys";
+  EXPECT_EQ(pair_parameters(spur).pinion.helix_angle_rad, 0.0);
+  const Scene spelled = load_scene(scene_path("paper_uncrowned.prm"),
+                                   {"Gear pair/Pinion/hand=left", "Gear pair/Gear/helix_angle_deg=0.0"});
+  EXPECT_EQ(spelled.hash, spur.hash);
+  EXPECT_NE(helical.hash, spur.hash);
+  // The resolved parameters list the keys all the same (what a run used).
+  EXPECT_THAT(spur.used_parameters_prm, HasSubstr("set helix_angle_deg"));
 }
 
 // Requirement: a scene whose stiffness comes from the FE uses the FE force law by default
