@@ -56,6 +56,11 @@ namespace hertzgear::stiffness
       if (g.tip_relief_mm != 0) // the shape of no relief is no property of the table
         j["tip_relief_shape"] =
           g.tip_relief_shape == meshing::TipReliefShape::parabolic ? "parabolic" : "linear";
+      if (g.helix_angle_rad != 0) // a spur pair's record is the one it had before helical pairs
+        {
+          j["helix_angle_deg"] = g.helix_angle_rad * 180 / M_PI;
+          j["hand"]            = g.hand == meshing::HelixHand::left ? "left" : "right";
+        }
       return j;
     };
     return {{"module_mm", pair.pinion.module_mm},
@@ -78,8 +83,8 @@ namespace hertzgear::stiffness
       std::string key   = slash == std::string::npos ? path : path.substr(slash + 1);
       if (key.size() > 3 && key.compare(key.size() - 3, 3, "_um") == 0)
         key.replace(key.size() - 3, 3, "_mm");
-      if (key == "pressure_angle_deg")
-        key = "pressure_angle_rad";
+      if (key == "pressure_angle_deg" || key == "helix_angle_deg")
+        key.replace(key.size() - 3, 3, "rad");
       if (gear.empty() && (key == "module_mm" || key == "pressure_angle_rad"))
         gear = "pinion";
       return "{" + (gear.empty() ? key : gear + "." + key) + "}";
@@ -155,7 +160,16 @@ namespace hertzgear::stiffness
         // teeth do: a table of other values is refused, whichever differs.
         std::ostringstream       diff;
         std::vector<std::string> unrecorded;
-        differences(json.at("pair"), pair_record(input.pair), "", diff, unrecorded);
+        // A record without a helix angle is a spur pair's (the scene's, and every table written
+        // before helical pairs): compared as 0 both ways, a spur table never serves a helical
+        // scene nor a helical table a spur one.
+        nlohmann::json recorded = json.at("pair"), scene = pair_record(input.pair);
+        for (nlohmann::json *record : {&recorded, &scene})
+          for (const char *gear : {"pinion", "gear"})
+            if (record->contains(gear) && record->at(gear).is_object() &&
+                !record->at(gear).contains("helix_angle_deg"))
+              (*record)[gear]["helix_angle_deg"] = 0.0;
+        differences(recorded, scene, "", diff, unrecorded);
         if (diff.tellp() > 0)
           throw ParameterError("table_file",
                                msg(file, " was computed for another pair: ", diff.str(),
