@@ -376,7 +376,8 @@ namespace hertzgear::meshing
     // The 3D body is the transverse section extruded straight along the axis: a spur body.
     HG_REQUIRE_INPUT(settings.dimension == 2 || gear.helix_angle_rad() == 0, gear.parameters().name,
                      ": helix angle ", gear.helix_angle_rad() * 180 / pi,
-                     " deg: 3D meshes of helical gears are not supported yet");
+                     " deg: 3D meshes of helical gears are not supported yet (",
+                     field(gear.parameters(), "helix_angle_rad"), ", {dimension})");
     HG_REQUIRE_INPUT(settings.refinement_level >= 0 && settings.refinement_level <= 6,
                      "mesh refinement level ", settings.refinement_level, " is outside 0..6");
 

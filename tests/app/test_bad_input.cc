@@ -6,14 +6,14 @@
 // (run, stiffness, report) naming the process; the report names what no manifest of the run
 // vouches for; an interrupted `stiffness` run leaves no mixed or partial table.
 //
-// 69 refused cases (exit code, named key or file, no folder left; `check` on each):
-//   geometry (class 1) 12, tables (5) 18, output places (2) 9, scene text injection (8) 4,
+// 87 refused cases (exit code, named key or file, no folder left; `check` on each):
+//   geometry (class 1) 12, helical pairs (1, 5) 18, tables (5) 18, output places (2) 9, scene text injection (8) 4,
 //   scene files (3, 9) 5, values (3, 9) 5, arguments (2, 9) 4, JSON (8, 9) 3,
 //   numerics (3, 4) 5, messages (9) 4 (two of them through `check` alone);
 // and 16 further cases: check and run accept the same valid scenes (4) 3, a table at another
 // load (5) 1, a folder in use (6) 5, the report's trust (7) 3, leftovers and durability (10) 4
 // (leftover temporaries, a manifest that vouches for nothing, `stiffness` stopped by SIGINT and
-// by SIGKILL). 85 cases in all; every class has at least three.
+// by SIGKILL). 103 cases in all; every class has at least three.
 #include "tests/support/held_folder.h"
 #include "tests/support/run_command.h"
 
@@ -201,6 +201,60 @@ TEST(BadInput, ImpossibleGearsAreRefusedWithEveryStiffnessSource)
            {"--set Operating/center_distance_mm=85.2 --set Operating/backlash_mm=0",
             "Operating/center_distance_mm", "jams the pair"}})
       expect_refused({"run", scene + " " + set, key, "", reason});
+}
+
+// Class 1: the helix keys of a pair (docs/scenes.md): a helix angle outside [0, 45) deg, equal
+// hands on a helical external pair and different helix angles are refused by every command that
+// reads the pair, `geometry` included, naming the key and the cause.
+TEST(BadInput, ImpossibleHelicalPairsAreRefusedNamingTheHelixKey)
+{
+  const std::string helical = scene_path("paper_helical.prm");
+  struct Helix
+  {
+    std::string set, key, reason;
+  };
+  for (const std::string command : {"geometry", "run"})
+    for (const auto &[set, key, reason] : std::vector<Helix>{
+           {"--set 'Gear pair/Pinion/helix_angle_deg=45' --set 'Gear pair/Gear/helix_angle_deg=45'",
+            "Gear pair/Pinion/helix_angle_deg", "outside [0, 45) deg"},
+           {"--set 'Gear pair/Gear/helix_angle_deg=50'", "Gear pair/Gear/helix_angle_deg", "not allowed"},
+           {"--set 'Gear pair/Pinion/helix_angle_deg=-5'", "Gear pair/Pinion/helix_angle_deg", "not allowed"},
+           {"--set 'Gear pair/Gear/hand=right'", "Gear pair/Gear/hand", "needs opposite hands"},
+           {"--set 'Gear pair/Gear/helix_angle_deg=10'", "Gear pair/Gear/helix_angle_deg",
+            "share one helix angle"}})
+      expect_refused({command, helical + " " + set, key, "", reason});
+}
+
+// Class 1: a helical pair asked of a stage that cannot serve it yet gets that stage's refusal
+// from the command line (exit 2, the helix key named, no folder): the stiffness command with every
+// stiffness source that computes (the fem source in 2D and 3D, the closed-form ones), `run` with
+// the scene's own FE source, a 3D mesh, and the dynamics on a spur pair's table.
+TEST(BadInput, HelicalScenesAreRefusedByTheStagesThatCannotServeThem)
+{
+  const std::string helical = scene_path("paper_helical.prm");
+  const std::string beta    = "Gear pair/Pinion/helix_angle_deg";
+  const std::string refused = "helical pairs are not supported by ";
+  for (const auto &[set, reason] : std::vector<std::pair<std::string, std::string>>{
+         {"", refused + "the finite-element stiffness source (fem) yet"},
+         {"--set Stiffness/fe_dimension=3", refused + "the finite-element stiffness source (fem) yet"},
+         {"--set Stiffness/source=iso6336", refused + "the closed-form stiffness sources yet"},
+         {"--set Stiffness/source=hertz-analytic", refused + "the closed-form stiffness sources yet"},
+         {"--set Stiffness/source=potential-energy", refused + "the closed-form stiffness sources yet"}})
+    expect_refused({"stiffness", helical + " " + set, beta, "", reason});
+  expect_refused({"run", helical, beta, "", refused + "the finite-element stiffness source (fem) yet"});
+  // `check` refuses it through the fem source; the mesher's own refusal names the same key.
+  expect_refused({"mesh", helical + " --set Stiffness/fe_dimension=3", beta});
+  const fs::path mesh_out = fresh_temp_dir("bad_input_mesh_" + this_test()) / "mesh";
+  const auto     mesh     = run_hertzgear("mesh " + helical + " --set Stiffness/fe_dimension=3 --out " +
+                                  quoted(mesh_out));
+  EXPECT_EQ(mesh.exit_code, 2) << mesh.err;
+  EXPECT_THAT(mesh.err, HasSubstr("3D meshes of helical gears are not supported yet"));
+  EXPECT_FALSE(fs::exists(mesh_out)) << "mesh: left a folder";
+  // A table records no helix angle for a spur pair: it is a spur table, and serves no helical pair.
+  const fs::path spur_table = fs::path(HERTZGEAR_SOURCE_DIR) / "data" / "stiffness" / "paper_uncrowned.json";
+  expect_refused({"dynamics",
+                  helical + " --set Stiffness/source=table --set Stiffness/table_file=" + quoted(spur_table),
+                  "Stiffness/table_file", "Gear pair/Pinion/helix_angle_deg 0 (table) / 15 (scene)"});
 }
 
 // Classes 2 and 5: table files are opened only as regular files of bounded size, tied to their
