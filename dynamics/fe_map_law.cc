@@ -91,6 +91,10 @@ namespace hertzgear::dynamics
         // The interval of constant_x at the left edge of each of `buckets` equal cells over
         // [x_0, x_{J-1}] (at least 2 rungs: the ladder's check), so that an evaluation finds its
         // interval's neighbourhood with one multiplication.
+        double widest = 0.0;
+        for (std::size_t j = 0; j + 1 < constant_x.size(); ++j)
+          widest = std::max(widest, constant_x[j + 1] - constant_x[j]);
+        kappa_weight = 0.01728 * widest * widest;
         bucket_scale = double(buckets) / (constant_x.back() - constant_x.front());
         for (unsigned b = 0; b < buckets; ++b)
           bucket_interval[b] = static_cast<int>(
@@ -102,13 +106,7 @@ namespace hertzgear::dynamics
       // What an error in a curvature kappa_j does to log F at most, per unit: the largest
       // |H(t)| = t^2 (1 - t)^3 / 2 of its basis function (at t = 2/5) times D^2, D the widest
       // rung interval in X (at the cycle's mean).
-      double curvature_weight() const
-      {
-        double widest = 0.0;
-        for (std::size_t j = 0; j + 1 < constant_x.size(); ++j)
-          widest = std::max(widest, constant_x[j + 1] - constant_x[j]);
-        return 0.01728 * widest * widest;
-      }
+      double curvature_weight() const { return kappa_weight; }
       // Phase coefficients of the member: X_j, m_j and kappa_j.
       unsigned n_phase_coefficients() const { return 3 * static_cast<unsigned>(Y.size()); }
       bool     varies() const { return harmonics > 0; }
@@ -674,6 +672,7 @@ namespace hertzgear::dynamics
       static constexpr unsigned  buckets = 4 * max_rungs;
       std::array<int, buckets>   bucket_interval{}; // of constant_x, at each bucket's left edge
       double                     bucket_scale = 0; // buckets per unit of X
+      double                     kappa_weight = 0; // curvature_weight()
       unsigned                   harmonics = 0;
       double                     p;
       bool                       natural_low; // the spline's lowest end natural, else clamped to p
