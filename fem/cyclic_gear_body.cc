@@ -74,7 +74,10 @@ namespace hertzgear::fem
   template <int dim>
   int CyclicGearBody<dim>::tooth_of(const Point<dim> &x) const
   {
-    return static_cast<int>(std::lround(std::atan2(x[1], x[0]) / theta));
+    double angle = std::atan2(x[1], x[0]);
+    if constexpr (dim == 3)
+      angle -= parameters.twist_rad_per_mm * x[2];
+    return static_cast<int>(std::lround(angle / theta));
   }
 
   template <int dim>
@@ -142,7 +145,8 @@ namespace hertzgear::fem
         it = constraints.is_constrained(it->second[0]) ? side.erase(it) : std::next(it);
     HG_REQUIRE_INPUT(!nodes[0].empty(), "the sector mesh has no free nodes on its start cut "
                                         "(boundary id ", static_cast<int>(parameters.cut_start_id), ")");
-    HG_REQUIRE_INPUT(nodes[0].size() == nodes[1].size(), "the cut faces of the sector mesh do not match: ",
+    HG_REQUIRE_INPUT(nodes[0].size() == nodes[1].size(), parameters.name,
+                     ": the cut faces of the sector mesh do not match: ",
                      nodes[0].size(), " free nodes on the start cut, ", nodes[1].size(),
                      " on the end cut");
 
@@ -175,7 +179,7 @@ namespace hertzgear::fem
               best_distance = d, best = j;
           }
         HG_REQUIRE_INPUT(best_distance <= tolerance && !used[best],
-                         "the cut faces of the sector mesh do not match: the start-cut node at (",
+                         parameters.name, ": the cut faces of the sector mesh do not match: the start-cut node at (",
                          p, ") turned by 2 pi / ", parameters.n_teeth, " lies ", best_distance,
                          " from the nearest end-cut node (tolerance ", tolerance,
                          "); the sector must span exactly one tooth pitch with a periodic cut mesh");

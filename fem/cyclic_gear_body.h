@@ -33,6 +33,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <string>
 #include <vector>
 
 namespace hertzgear::fem
@@ -47,6 +48,12 @@ namespace hertzgear::fem
       unsigned int                         n_teeth = 0;
       dealii::types::boundary_id           cut_start_id = 11; // the sector's clockwise cut (A)
       dealii::types::boundary_id           cut_end_id   = 12; // A turned by 2 pi / n_teeth (B)
+      // A helical gear's section turn psi(z) = twist_rad_per_mm z (meshing::FlankSurface::
+      // section_angle_rad; 0 for a spur gear): tooth t's centre at face position z lies at polar
+      // angle t theta + psi(z). The sector and its cut faces twist with it; the cyclic model is
+      // unchanged, a turn about the axis by theta still maps the start cut onto the end cut.
+      double twist_rad_per_mm = 0;
+      std::string name = "gear"; // the body's name in messages ("pinion", "gear")
       // Who shares the harmonics (each process holds the whole sector).
       MPI_Comm harmonic_communicator = MPI_COMM_SELF;
       // Called between units of work (a block of interior solves, a cyclic harmonic): the FE
@@ -107,7 +114,8 @@ namespace hertzgear::fem
     unsigned int            n_teeth() const { return parameters.n_teeth; }
     unsigned int            n_cut_dofs() const { return static_cast<unsigned int>(cut_a.size()); }
     dealii::types::global_dof_index n_dofs() const { return body.n_dofs(); }
-    // The tooth a point of the gear belongs to, and the point turned into the sector.
+    // The tooth a point of the gear belongs to (its section turned back by psi(z) in 3D), and the
+    // point turned into the sector.
     int                tooth_of(const dealii::Point<dim> &x) const;
     dealii::Point<dim> to_sector(const dealii::Point<dim> &x, int tooth) const;
     dealii::Tensor<1, dim> to_sector(const dealii::Tensor<1, dim> &v, int tooth) const;

@@ -222,6 +222,8 @@ namespace hertzgear::stiffness
         p.n_teeth                  = static_cast<unsigned int>(gear.n_teeth());
         p.cut_start_id             = tag::sector_cut_start;
         p.cut_end_id               = tag::sector_cut_end;
+        p.twist_rad_per_mm         = gear.flank().section_angle_rad(1.0);
+        p.name                     = gear.parameters().name;
         // Through this body's hook, which may be cleared when its caller's state ends.
         p.between_work_units = [this] {
           if (between_work_units)

@@ -82,6 +82,23 @@ namespace
     return ids;
   }
 
+  // Calls f(tooth, vertex) for every vertex of every drive and coast flank face (boundary ids
+  // 100 + k and 200 + k); a vertex shared by faces is visited once per face.
+  template <typename F>
+  void for_each_flank_vertex(const dealii::Triangulation<3> &tria, const F &f)
+  {
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const auto face : cell->face_indices())
+        if (cell->face(face)->at_boundary())
+          {
+            const unsigned int id = cell->face(face)->boundary_id();
+            if (id < 100 || id >= 300)
+              continue;
+            for (const auto v : cell->face(face)->vertex_indices())
+              f(int(id % 100), cell->face(face)->vertex(v));
+          }
+  }
+
   nlohmann::json mesh(const std::string &scene, const std::string &extra, const fs::path &out)
   {
     const auto r = run_hertzgear("mesh " + scene_path(scene) + " --out " + out.string() +
@@ -137,28 +154,17 @@ TEST(BodyMesh, CrownedThreeDimensionalMeshHasExactCrowningAtFlankNodes)
       const int    central = 1; // 3 teeth: teeth 0, 1, 2; tooth 1 on the +x axis
       double       max_err = 0;
       std::size_t  n_checked = 0;
-      for (const auto &cell : tria.active_cell_iterators())
-        for (const auto f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            {
-              const unsigned int id = cell->face(f)->boundary_id();
-              if (id < 100 || id >= 300) // drive and coast flanks
-                continue;
-              const int tooth = int(id % 100);
-              for (const auto v : cell->face(f)->vertex_indices())
-                {
-                  const auto   p      = cell->face(f)->vertex(v);
-                  const double radius = std::hypot(p[0], p[1]);
-                  const double phi    = std::atan2(p[1], p[0]) - (tooth - central) * 2 * pi / z[i];
-                  const double a_r    = std::acos(rb / radius);
-                  // Removal normal to the flank = r_b times the angular offset from the nominal
-                  // involute (an involute moved by Delta along its normal turns by Delta / r_b).
-                  const double removal  = rb * (psi - (std::tan(a_r) - a_r) - std::abs(phi));
-                  const double expected = beta * std::pow(2 * p[2] / b, 2);
-                  max_err = std::max(max_err, std::abs(removal - expected));
-                  ++n_checked;
-                }
-            }
+      for_each_flank_vertex(tria, [&](const int tooth, const dealii::Point<3> &p) {
+        const double radius = std::hypot(p[0], p[1]);
+        const double phi    = std::atan2(p[1], p[0]) - (tooth - central) * 2 * pi / z[i];
+        const double a_r    = std::acos(rb / radius);
+        // Removal normal to the flank = r_b times the angular offset from the nominal involute
+        // (an involute moved by Delta along its normal turns by Delta / r_b).
+        const double removal  = rb * (psi - (std::tan(a_r) - a_r) - std::abs(phi));
+        const double expected = beta * std::pow(2 * p[2] / b, 2);
+        max_err = std::max(max_err, std::abs(removal - expected));
+        ++n_checked;
+      });
       EXPECT_GT(n_checked, 100u);
       EXPECT_LT(max_err, 1e-9) << body[i] << ": crowning error at the flank nodes";
     }
@@ -231,5 +237,49 @@ TEST(BodyMesh, FullGearModelMeshesOneToothWithPeriodicCutFaces)
             }
           EXPECT_LT(worst, 1e-9 * radius) << dim << "D " << body;
         }
+    }
+}
+
+// Requirement: a helical body is the transverse section turned by psi(z) = +-z tan(beta) / r along
+// the face (docs/geometry.md, "Flank surface"): on both flanks of every tooth of the paper's
+// helical pair (beta = 15 deg, pinion right hand, gear left hand; 3D sector of three teeth, level
+// 0, uncrowned), the node's polar angle less its tooth's angle and psi(z) is the involute of its
+// radius offset by one half-thickness angle, the same for all nodes of a body. The reference is
+// built here from the transverse module and pressure angle (ISO 21771), not from the mesher's
+// geometry. Tolerance 1e-9 rad: the .msh file's 16 digits and the involute's rounding (1e-14).
+// A straight (untwisted) body would be off by up to b tan(beta) / (2 r) = 0.075 rad at the faces.
+TEST(BodyMesh, HelicalThreeDimensionalMeshIsTheSectionTurnedAlongTheFace)
+{
+  const fs::path out = fresh_temp_dir("mesh3d_helical");
+  const auto     q   = mesh("paper_helical.prm", " --set Stiffness/fe_dimension=3", out);
+  const double   beta = 15 * pi / 180, m_t = 3 / std::cos(beta);
+  const double   alpha_t = std::atan(std::tan(20 * pi / 180) / std::cos(beta));
+  const int      z[2]    = {23, 34};
+  const double   hand[2] = {1, -1};
+  const char    *body[2] = {"pinion", "gear"};
+  for (int i = 0; i < 2; ++i)
+    {
+      dealii::Triangulation<3> tria;
+      read(tria, out / (std::string(body[i]) + ".msh"));
+      EXPECT_EQ(tria.n_active_cells(), q.at(body[i]).at("elements").get<std::size_t>());
+      EXPECT_GT(min_jacobian(tria), 0.0) << body[i];
+      const double r = 0.5 * m_t * z[i], rb = r * std::cos(alpha_t);
+      const int    central = 1;
+      double       lo = 1e300, hi = -1e300;
+      std::size_t  n_checked = 0;
+      for_each_flank_vertex(tria, [&](const int tooth, const dealii::Point<3> &p) {
+        const double radius = std::hypot(p[0], p[1]);
+        if (radius < rb)
+          return; // the fillet's end of a flank curve below the base circle
+        const double psi_z = hand[i] * p[2] * std::tan(beta) / r;
+        const double phi   = std::atan2(p[1], p[0]) - (tooth - central) * 2 * pi / z[i] - psi_z;
+        const double a_r   = std::acos(rb / radius);
+        const double half_angle = std::abs(phi) + (std::tan(a_r) - a_r);
+        lo = std::min(lo, half_angle), hi = std::max(hi, half_angle);
+        ++n_checked;
+      });
+      EXPECT_GT(n_checked, 100u);
+      EXPECT_LT(hi - lo, 1e-9) << body[i] << ": flank nodes off the turned involute";
+      EXPECT_GT(q.at(body[i]).at("min_scaled_jacobian").get<double>(), 0.0);
     }
 }
