@@ -55,15 +55,13 @@ namespace hertzgear
               << "  " << std::setw(10) << p["rho_pinion_mm"].get<double>() << "  " << std::setw(8)
               << p["rho_gear_mm"].get<double>() << "\n";
         }
-      if (j["iso6336"].is_null())
-        {
-          out << "  ISO 6336-1 method B: not computed (spur pairs only)\n";
-          return;
-        }
       const auto &iso = j["iso6336"];
       out << "  ISO 6336-1 method B: c'_th " << iso["c_prime_th_N_per_mm_um"].get<double>()
           << "  c' " << iso["c_prime_N_per_mm_um"].get<double>() << "  c_gamma_alpha "
-          << iso["c_gamma_alpha_N_per_mm_um"].get<double>() << " N/(mm um)\n";
+          << iso["c_gamma_alpha_N_per_mm_um"].get<double>();
+      if (helical)
+        out << "  c_gamma_beta " << iso["c_gamma_beta_N_per_mm_um"].get<double>();
+      out << " N/(mm um)\n";
     }
 
     int run_geometry(const CommandContext &ctx, const bool json)
@@ -71,10 +69,7 @@ namespace hertzgear
       const Scene scene = load_scene(ctx.scene_file, ctx.overrides);
       const auto  pair  = make_pair(scene);
       auto        j     = meshing::pair_json(pair);
-      // ISO 6336-1 method B is implemented for spur pairs (null for a helical one).
-      j["iso6336"] = pair.helix_angle_rad() == 0 ?
-                       nlohmann::json(stiffness::iso6336_method_b(pair, scene.operating.torque_Nm)) :
-                       nlohmann::json(nullptr);
+      j["iso6336"]      = stiffness::iso6336_method_b(pair, scene.operating.torque_Nm);
       j["scene_hash"]   = scene.hash;
       begin_on_out(ctx);
       if (!processes::is_root())

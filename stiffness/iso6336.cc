@@ -19,9 +19,12 @@ namespace hertzgear::stiffness
   Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, const double pinion_torque_Nm)
   {
     const meshing::GearParameters &p1 = pair.pinion().parameters(), &p2 = pair.gear().parameters();
-    meshing::require_spur_pair(p1, p2, "ISO 6336-1 method B (stiffness)");
-    // Spur gears: virtual numbers of teeth z_n = z, helix angle beta = 0.
-    const double z1 = p1.teeth, z2 = p2.teeth;
+    // Virtual numbers of teeth z_n = z / (cos^2(beta_b) cos(beta)) (z for a spur gear, where
+    // both cosines are exactly 1), with the helix angle beta at the reference circle.
+    const double beta = pair.helix_angle_rad(), cos_beta = std::cos(beta);
+    const double cos_beta_b = std::cos(pair.base_helix_angle_rad());
+    const double zn_factor  = 1 / (cos_beta_b * cos_beta_b * cos_beta);
+    const double z1 = p1.teeth * zn_factor, z2 = p2.teeth * zn_factor;
     const double x1 = p1.profile_shift_coefficient, x2 = p2.profile_shift_coefficient;
     // ISO 6336-1:2006, clause 9 (method B): the coefficients C1..C9 of the flexibility q'.
     constexpr double C1 = 0.04723, C2 = 0.15551, C3 = 0.25791, C4 = -0.00635, C5 = -0.11654,
@@ -34,12 +37,14 @@ namespace hertzgear::stiffness
     s.C_R                    = 1.0;
     s.C_B                    = 0.5 * (basic_rack_factor(p1) + basic_rack_factor(p2));
     const double b           = std::min(p1.face_width_mm, p2.face_width_mm);
-    const double d1          = p1.module_mm * z1;
+    const double d1          = p1.module_mm * p1.teeth / cos_beta; // reference diameter
     s.line_load_N_per_mm     = 2000 * pinion_torque_Nm / d1 / b;
     s.load_factor = s.line_load_N_per_mm >= 100 ? 1.0 : std::pow(s.line_load_N_per_mm / 100, 0.25);
-    s.c_prime_N_per_mm_um = s.c_prime_th_N_per_mm_um * s.C_M * s.C_R * s.C_B * s.load_factor;
+    s.c_prime_N_per_mm_um =
+      s.c_prime_th_N_per_mm_um * s.C_M * s.C_R * s.C_B * s.load_factor * cos_beta;
     const double eps      = pair.contact_ratio();
     s.c_gamma_alpha_N_per_mm_um = s.c_prime_N_per_mm_um * (0.75 * eps + 0.25);
+    s.c_gamma_beta_N_per_mm_um  = 0.85 * s.c_gamma_alpha_N_per_mm_um;
     s.within_validity           = eps >= 1.2;
     return s;
   }

@@ -1,10 +1,12 @@
 #pragma once
 // Tooth stiffness of ISO 6336-1:2006 (Calculation of load capacity of spur and helical gears,
-// Part 1), clause 9, method B: single stiffness c' and mesh stiffness c_gamma_alpha of a spur
-// pair with solid gear blanks, as an analytic reference and as a stiffness source for dynamics.
+// Part 1), clause 9, method B: single stiffness c' and mesh stiffness c_gamma_alpha of a spur or
+// helical pair with solid gear blanks, as an analytic reference and as a stiffness source for
+// dynamics (spur pairs only there).
 //
 //   q'       = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2 + C8 x1^2 + C9 x2^2
-//              [mm um / N], minimum flexibility of a tooth pair (ISO 6336-1:2006, clause 9, method B)
+//              [mm um / N], minimum flexibility of a tooth pair (ISO 6336-1:2006, clause 9, method B),
+//              z_n = z / (cos^2(beta_b) cos(beta)) the virtual numbers of teeth (z for spur gears)
 //   c'_th    = 1 / q'                                          [N / (mm um)]
 //   c'       = c'_th C_M C_R C_B cos(beta)                       (F_t K_A / b >= 100 N/mm)
 //   c'       = c'_th C_M C_R C_B cos(beta) (F_t K_A / b / 100)^0.25   (below 100 N/mm)
@@ -13,6 +15,9 @@
 //   C_B      = [1 + 0.5 (1.2 - h_fP/m_n)] [1 - 0.02 (20 deg - alpha_Pn)], averaged over both
 //              gears when their basic racks differ (basic rack factor)
 //   c_gamma_alpha = c' (0.75 eps_alpha + 0.25)                   (mesh stiffness, eps_alpha >= 1.2)
+//   c_gamma_beta  = 0.85 c_gamma_alpha                          (for the face load factor K_Hbeta)
+// with the reference diameter d1 = z1 m_n / cos(beta) in F_t = 2000 T1 / d1 and the normal basic
+// rack in C_B.
 #include "common/material.h"
 #include "meshing/pair_kinematics.h"
 
@@ -30,6 +35,7 @@ namespace hertzgear::stiffness
     double load_factor              = 0; // (F_t K_A / b / 100)^0.25, or 1
     double c_prime_N_per_mm_um      = 0;
     double c_gamma_alpha_N_per_mm_um = 0;
+    double c_gamma_beta_N_per_mm_um  = 0;
     double line_load_N_per_mm       = 0; // F_t K_A / b used for the load factor
     // c_gamma_alpha of ISO 6336-1 is defined for eps_alpha >= 1.2; below, it is an extrapolation.
     bool within_validity = true;
@@ -37,12 +43,11 @@ namespace hertzgear::stiffness
   // Its record in geometry.json, with the member names as keys: the stiffnesses, the factors, the
   // line load and the validity (q' is left out: c'_th = 1 / q').
   NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Iso6336Stiffness, c_prime_th_N_per_mm_um, c_prime_N_per_mm_um,
-                                     c_gamma_alpha_N_per_mm_um, C_M, C_R, C_B, load_factor,
+                                     c_gamma_alpha_N_per_mm_um, c_gamma_beta_N_per_mm_um, C_M, C_R, C_B, load_factor,
                                      line_load_N_per_mm, within_validity)
 
   // `pinion_torque_Nm` gives F_t = 2000 T1 / d1 on the reference circle (K_A = 1); the face
-  // width is the smaller of both. Solid blanks (C_R = 1). Spur pairs: a helical one is refused
-  // (InputError).
+  // width is the smaller of both. Solid blanks (C_R = 1). Spur and helical pairs.
   Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, double pinion_torque_Nm);
 
   // The nominal contact stress of ISO 6336-2 (method B) at the pitch point of a spur pair,

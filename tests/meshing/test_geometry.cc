@@ -231,6 +231,35 @@ TEST(Iso6336, PaperPairByHand)
   EXPECT_DOUBLE_EQ(s.load_factor, 1.0);
 }
 
+// ISO 6336-1 method B for the paper's pair made helical (beta = 15 deg), by hand: the virtual
+// numbers of teeth z_n = z / (cos^2(beta_b) cos(beta)), sin(beta_b) = sin(beta) cos(alpha_n), in
+// q'; c' carries cos(beta); the line load uses d1 = z1 m_n / cos(beta); c_gb = 0.85 c_ga.
+// Tolerance 1e-12: the same operations in another order.
+TEST(Iso6336, HelicalPaperPairByHand)
+{
+  auto p = paper_pair();
+  const double beta = 15 * pi / 180;
+  p.pinion.helix_angle_rad = p.gear.helix_angle_rad = beta;
+  p.pinion.hand = HelixHand::right;
+  p.gear.hand   = HelixHand::left;
+  const PairKinematics k(p);
+  const auto           s      = iso6336_method_b(k, 210);
+  const double         sin_bb = std::sin(beta) * std::cos(20 * pi / 180);
+  const double         zn     = 1 / ((1 - sin_bb * sin_bb) * std::cos(beta));
+  const double         q      = 0.04723 + 0.15551 / (23 * zn) + 0.25791 / (34 * zn);
+  const double         c      = 1 / q * 0.8 * 0.975 * std::cos(beta);
+  EXPECT_NEAR(s.c_prime_th_N_per_mm_um, 1 / q, 1e-12);
+  EXPECT_NEAR(s.c_prime_N_per_mm_um, c, 1e-12);
+  EXPECT_NEAR(s.c_gamma_alpha_N_per_mm_um, c * (0.75 * k.contact_ratio() + 0.25), 1e-12);
+  EXPECT_NEAR(s.c_gamma_beta_N_per_mm_um, 0.85 * s.c_gamma_alpha_N_per_mm_um, 1e-12);
+  EXPECT_NEAR(s.line_load_N_per_mm, 2000 * 210 / (69.0 / std::cos(beta)) / 20, 1e-9);
+  // The helix lowers c' against the spur pair's (cos(beta) = 0.966 against 1/z_n's 2 % rise of
+  // c'_th) and the transverse contact ratio with it c_ga.
+  const auto spur = iso6336_method_b(PairKinematics(paper_pair()), 210);
+  EXPECT_LT(s.c_prime_N_per_mm_um, spur.c_prime_N_per_mm_um);
+  EXPECT_GT(s.c_prime_th_N_per_mm_um, spur.c_prime_th_N_per_mm_um);
+}
+
 // ISO 6336-1 for the shifted pair, by hand with the shift terms.
 TEST(Iso6336, ShiftedPairByHand)
 {

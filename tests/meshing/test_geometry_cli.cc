@@ -99,5 +99,7 @@ TEST(GeometryCommand, HelicalSceneGivesTheClosedFormsOfIso21771)
         << label << " missing from\n" << summary.out;
       EXPECT_NEAR(std::stod(m[1]), closed_form, 0.5e-4 + 1e-12) << label;
     }
-  EXPECT_NE(summary.out.find("ISO 6336-1 method B: not computed (spur pairs only)"), std::string::npos);
+  // ISO 6336-1 for the helical pair beside them (the values themselves: Iso6336.HelicalPaperPairByHand).
+  EXPECT_TRUE(j.at("iso6336").at("c_gamma_beta_N_per_mm_um").is_number());
+  EXPECT_NE(summary.out.find("c_gamma_beta"), std::string::npos) << summary.out;
 }
