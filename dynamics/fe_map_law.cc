@@ -21,7 +21,10 @@
 // construction; an evaluation interpolates the few it needs by the quintic Hermite polynomial of
 // its cell (GridPhase), N doubled until that is exact to 1e-12 (docs/dynamics.md, "What an
 // evaluation costs"). A member that does not vary keeps its coefficients at the cycle's mean
-// (ConstantPhase).
+// (ConstantPhase). An evaluation without rates (the dynamic layer's) keeps what it found at a
+// phase, the cell and each member's interval with its quintic (LadderMember::Segment, PhaseSlot),
+// for the next evaluation at that phase: an implicit integrator comes back to each of its stage
+// times once per Newton iteration.
 #include "common/errors.h"
 #include "common/fourier_series.h"
 #include "dynamics/mesh_force_law.h"
@@ -33,6 +36,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -160,6 +164,25 @@ namespace hertzgear::dynamics
         spline(taylor);
       }
 
+    private:
+      // The quintic of interval i in t = (X - X_i) / D, D = X_{i+1} - X_i:
+      // Y(t) = Y_i + t (c1 + t (c2 + t (c3 + t (c4 + t c5)))), the Hermite quintic of the values,
+      // slopes s = D m and curvatures w = D^2 kappa (in t) at both ends.
+      struct Piece
+      {
+        double Y0, c1, c2, c3, c4, c5;
+        double m0, m1, k0, k1; // the data in X, for the rates
+        double value(const double t) const
+        {
+          return Y0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))));
+        }
+        double slope(const double t) const // dY/dt
+        {
+          return c1 + t * (2.0 * c2 + t * (3.0 * c3 + t * (4.0 * c4 + 5.0 * t * c5)));
+        }
+      };
+
+    public:
       // The force at the compression a > 0 with its derivatives in a and in time at fixed a
       // (without `rates` that in time is left 0).
       template <class Phase>
@@ -170,23 +193,17 @@ namespace hertzgear::dynamics
       template <bool rates, class Phase>
       MemberForce force(const Phase &ph, const double a) const
       {
-        const long   J = static_cast<long>(Y.size());
         const double X = std::log(a);
-        // The interval k (x_k <= X < x_{k+1}; -1 below the ladder, J - 1 above it): near the one
-        // among the x_j at the cycle's mean (their bucket), then found with the phase's values.
-        const double b = (X - constant_x.front()) * bucket_scale;
-        long k = !(b >= 0.0) ? -1 : (b >= double(buckets) ? J - 1 : bucket_interval[std::size_t(b)]);
-        double xk = 0.0, xk1 = 0.0;
-        for (long it = 0; it <= J; ++it)
+        double       xk = 0.0, xk1 = 0.0;
+        const long   k = interval(ph, X, xk, xk1);
+        if constexpr (!rates)
           {
-            if (k >= 0 && X < (xk = x(ph, std::size_t(k))))
-              --k;
-            else if (k + 1 < J && X >= (xk1 = x(ph, std::size_t(k + 1))))
-              ++k;
-            else
-              break;
+            Segment s;
+            segment(ph, k, xk, xk1, s);
+            return force(s, X, a);
           }
-        double Yv = 0, dY_dX = 0, dY_dt = 0;
+        const long J  = static_cast<long>(Y.size());
+        double     Yv = 0, dY_dX = 0, dY_dt = 0;
         if (k < 0)
           {
             // Below the lowest rung: the power law of the spline's lowest slope m_0 (p when the
@@ -234,6 +251,84 @@ namespace hertzgear::dynamics
           }
         const double F = std::exp(Yv);
         return {F, F * dY_dX / a, F * dY_dt};
+      }
+
+      // The force's law on one interval of X = log a at one phase: what force<false> finds there
+      // (the interval and the quintic of its piece, or the power law beyond the ladder) before it
+      // evaluates at X. An evaluation at a phase and in an interval met before starts from it and
+      // skips the search, the six coefficients interpolated over the cycle, the piece and its
+      // division (an implicit integrator's Newton iterations evaluate at the same stage times; a
+      // member that does not vary has one per interval for every phase). Its force is that of
+      // force<false> to the bit: the same operations on the same numbers.
+      struct Segment
+      {
+        // It holds for lo <= X < hi (-inf and inf beyond the ladder; none before it is found).
+        double lo = std::numeric_limits<double>::infinity(),
+               hi = -std::numeric_limits<double>::infinity();
+        bool   inside = false; // between two rungs: the quintic q in t = (X - x0) inv_D
+        double x0 = 0, inv_D = 0;
+        double m  = 0; // beyond the ladder: log F = q.Y0 + m (X - x0)
+        Piece  q{};
+        bool   holds(const double X) const { return X >= lo && X < hi; }
+        void   clear()
+        {
+          lo = std::numeric_limits<double>::infinity();
+          hi = -lo;
+        }
+      };
+      // The segment s of the interval of X at the phase `ph`.
+      template <class Phase>
+      void find_segment(const Phase &ph, const double X, Segment &s) const
+      {
+        double     xk = 0.0, xk1 = 0.0;
+        const long k = interval(ph, X, xk, xk1);
+        segment(ph, k, xk, xk1, s);
+      }
+      // The force at X = log a > 0 on the segment that holds X (in time at fixed a: 0).
+      MemberForce force(const Segment &s, const double X, const double a) const
+      {
+        double Yv, dY_dX;
+        if (s.inside)
+          {
+            const double t = (X - s.x0) * s.inv_D;
+            Yv             = s.q.value(t);
+            dY_dX          = s.q.slope(t) * s.inv_D;
+          }
+        else
+          {
+            Yv    = s.q.Y0 + s.m * (X - s.x0);
+            dY_dX = s.m;
+          }
+        const double F = std::exp(Yv);
+        return {F, F * dY_dX / a, 0.0};
+      }
+      // The member's segments at the cycle's mean coefficients `ph` (a member that does not vary),
+      // one per interval, and the one that holds X among them (found as interval() does).
+      template <class Phase>
+      void keep_mean_segments(const Phase &ph)
+      {
+        const long J = static_cast<long>(Y.size());
+        mean_segments.clear();
+        mean_segments.resize(std::size_t(J + 1));
+        for (long k = -1; k < J; ++k)
+          segment(ph, k, k >= 0 ? x(ph, std::size_t(k)) : 0.0,
+                  k + 1 < J ? x(ph, std::size_t(k + 1)) : 0.0, mean_segments[std::size_t(k + 1)]);
+      }
+      const Segment &mean_segment(const double X) const
+      {
+        const long J = static_cast<long>(Y.size());
+        long       k = bucket(X);
+        for (long it = 0; it <= J; ++it)
+          {
+            const Segment &s = mean_segments[std::size_t(k + 1)];
+            if (k >= 0 && X < s.lo)
+              --k;
+            else if (k + 1 < J && X >= s.hi)
+              ++k;
+            else
+              break;
+          }
+        return mean_segments[std::size_t(k + 1)];
       }
 
       // The compression that carries the force F > 0.
@@ -356,6 +451,65 @@ namespace hertzgear::dynamics
       {
         return ph.rate(x_index(j));
       }
+      // The interval k of X (x_k <= X < x_{k+1}; -1 below the ladder, J - 1 above it) with x_k
+      // and x_{k+1} there (those that exist): near the one among the x_j at the cycle's mean
+      // (their bucket), then found with the phase's values.
+      long bucket(const double X) const
+      {
+        const long   J = static_cast<long>(Y.size());
+        const double b = (X - constant_x.front()) * bucket_scale;
+        return !(b >= 0.0) ? -1 : (b >= double(buckets) ? J - 1 : bucket_interval[std::size_t(b)]);
+      }
+      template <class Phase>
+      long interval(const Phase &ph, const double X, double &xk, double &xk1) const
+      {
+        const long J = static_cast<long>(Y.size());
+        long       k = bucket(X);
+        for (long it = 0; it <= J; ++it)
+          {
+            if (k >= 0 && X < (xk = x(ph, std::size_t(k))))
+              --k;
+            else if (k + 1 < J && X >= (xk1 = x(ph, std::size_t(k + 1))))
+              ++k;
+            else
+              break;
+          }
+        return k;
+      }
+      // The segment s of the interval k, with x_k and x_{k+1} there, at the phase `ph`.
+      template <class Phase>
+      void segment(const Phase &ph, const long k, const double xk, const double xk1,
+                   Segment &s) const
+      {
+        const long J = static_cast<long>(Y.size());
+        s.inside     = false;
+        s.lo = k < 0 ? -std::numeric_limits<double>::infinity() : xk;
+        s.hi = k + 1 < J ? xk1 : std::numeric_limits<double>::infinity();
+        if (k < 0)
+          {
+            // Below the lowest rung: the power law of the spline's lowest slope m_0 (p when the
+            // end is clamped).
+            s.m    = lowest_slope(ph);
+            s.x0   = xk1;
+            s.q.Y0 = Y[0];
+          }
+        else if (k == J - 1)
+          {
+            // Above the top: the power law of the spline's end slope.
+            s.m    = ph.value(slope_index(std::size_t(J - 1)));
+            s.x0   = xk;
+            s.q.Y0 = Y[J - 1];
+          }
+        else
+          {
+            const double D = xk1 - xk;
+            s.inside       = true;
+            s.x0           = xk;
+            s.inv_D        = 1.0 / D;
+            piece(ph, std::size_t(k), D, s.q);
+          }
+      }
+
       // The Hermite slope at rung k and its rate.
       template <class Phase>
       Slope slope(const Phase &ph, const std::size_t k) const
@@ -368,26 +522,16 @@ namespace hertzgear::dynamics
       static unsigned slope_index(const std::size_t k) { return static_cast<unsigned>(3 * k + 1); }
       static unsigned curvature_index(const std::size_t k) { return static_cast<unsigned>(3 * k + 2); }
 
-      // The quintic of interval i in t = (X - X_i) / D, D = X_{i+1} - X_i:
-      // Y(t) = Y_i + t (c1 + t (c2 + t (c3 + t (c4 + t c5)))), the Hermite quintic of the values,
-      // slopes s = D m and curvatures w = D^2 kappa (in t) at both ends.
-      struct Piece
-      {
-        double Y0, c1, c2, c3, c4, c5;
-        double m0, m1, k0, k1; // the data in X, for the rates
-        double value(const double t) const
-        {
-          return Y0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))));
-        }
-        double slope(const double t) const // dY/dt
-        {
-          return c1 + t * (2.0 * c2 + t * (3.0 * c3 + t * (4.0 * c4 + 5.0 * t * c5)));
-        }
-      };
       template <class Phase>
       Piece piece(const Phase &ph, const std::size_t i, const double D) const
       {
         Piece q;
+        piece(ph, i, D, q);
+        return q;
+      }
+      template <class Phase>
+      void piece(const Phase &ph, const std::size_t i, const double D, Piece &q) const
+      {
         q.m0 = ph.value(slope_index(i));
         q.m1 = ph.value(slope_index(i + 1));
         q.k0 = ph.value(curvature_index(i));
@@ -400,7 +544,6 @@ namespace hertzgear::dynamics
         q.c3 = 10.0 * dY - 6.0 * s0 - 4.0 * s1 - 1.5 * w0 + 0.5 * w1;
         q.c4 = -15.0 * dY + 8.0 * s0 + 7.0 * s1 + 1.5 * w0 - w1;
         q.c5 = 6.0 * dY - 3.0 * (s0 + s1) - 0.5 * (w0 - w1);
-        return q;
       }
       // The quintic Hermite basis functions of s0, w0, s1, w1 (those of the slopes and
       // curvatures; the values' do not move with the phase).
@@ -669,6 +812,7 @@ namespace hertzgear::dynamics
       std::vector<double>        mean_secant; // their means over the cycle
       std::vector<double>        cos_coefficient, sin_coefficient; // a_jh, b_jh
       std::vector<double>        constant_x;  // X_j at the mean coefficients
+      std::vector<Segment>       mean_segments; // at the mean coefficients, interval k at k + 1
       static constexpr unsigned  buckets = 4 * max_rungs;
       std::array<int, buckets>   bucket_interval{}; // of constant_x, at each bucket's left edge
       double                     bucket_scale = 0; // buckets per unit of X
@@ -686,6 +830,7 @@ namespace hertzgear::dynamics
     // per coefficient, when the force asks for it.
     struct GridCell
     {
+      GridCell() = default;
       GridCell(const unsigned n_nodes, const double theta, const double w, const bool rates)
       {
         double u = theta * (double(n_nodes) / (2.0 * M_PI));
@@ -716,7 +861,7 @@ namespace hertzgear::dynamics
         db[5]          = r * 0.5 * (3.0 * t2 - 8.0 * t3 + 5.0 * t4);
       }
       std::size_t node0 = 0, node1 = 0;
-      double      b[6], db[6] = {};
+      double      b[6] = {}, db[6] = {};
     };
 
     // A member's coefficients at the cell's angle, from its table over the cycle.
@@ -728,7 +873,7 @@ namespace hertzgear::dynamics
         , n1(grid.data() + cell.node1 * per_node)
         , cell(cell)
       {}
-      double value(const unsigned c) const
+      [[gnu::always_inline]] double value(const unsigned c) const
       {
         const double *p = n0 + 3 * c, *q = n1 + 3 * c;
         const double *b = cell.b;
@@ -754,6 +899,30 @@ namespace hertzgear::dynamics
       double        value(const unsigned c) const { return taylor[3 * c]; }
       double        rate(unsigned) const { return 0.0; }
     };
+
+    // What an evaluation without rates keeps of a phase on its thread (FeMapLaw::values): the
+    // cell of its angle and, per member that varies, the segment it last evaluated there. An
+    // implicit integrator evaluates the right-hand side at each stage time of a step once per
+    // Newton iteration and its Jacobian at the step's start, the last stage time of the step
+    // before: up to 10 phases (9 stages and the step's start) come back. The slots are filled in
+    // turn and found by a hash of the angle's bits (an index of 256 entries, so that the phases of
+    // a step rarely share one: one that loses its entry is filled again, the same to the bit).
+    // Keyed by the law's id and the angle itself (not the model's 2^-36 phase key), a slot gives
+    // what the law would compute there; per thread, as the models' phase store, nothing is shared.
+    struct PhaseSlot
+    {
+      std::uint64_t         law = 0, theta = 0; // the law's id (0: empty) and the angle's bits
+      GridCell              cell;
+      LadderMember::Segment segment[2]; // structural, Hertzian
+    };
+    struct PhaseSlots
+    {
+      static constexpr unsigned n = 16;
+      PhaseSlot                 slot[n];
+      std::uint8_t              index[256] = {}; // by hash: the slot last filled with that hash
+      unsigned                  next = 0;        // the slot filled next
+    };
+    thread_local PhaseSlots phase_slots;
 
     // The law's coefficients: X_j and m_j of each member, computed exactly at a phase
     // (LadderMember::phase_coefficients) to make their table over the cycle for a member that
@@ -824,6 +993,8 @@ namespace hertzgear::dynamics
         hertz_mean.assign(per_member(), 0.0);
         structural.mean_coefficients(structural_mean.data());
         hertz.mean_coefficients(hertz_mean.data());
+        structural.keep_mean_segments(ConstantPhase{structural_mean.data()});
+        hertz.keep_mean_segments(ConstantPhase{hertz_mean.data()});
         tabulate();
       }
 
@@ -844,7 +1015,7 @@ namespace hertzgear::dynamics
         if (rates)
           forces<true>(phase, u, d, out);
         else
-          forces<false>(phase, u, d, out);
+          values(phase, u, d, out);
       }
 
       double quasi_static_penetration(const MeshPhase &phase, const double f) const override
@@ -898,8 +1069,12 @@ namespace hertzgear::dynamics
       double tabulated_force_limit() const override { return top; }
 
     private:
+      // The forces at (phase, u, d) from the phase's coefficients, with rates for the quasi-static
+      // layer (without them values() gives the same to the bit). Not inlined into forces(): it
+      // would widen the frame of the path without rates, the common one.
       template <bool rates>
-      void forces(const MeshPhase &phase, const double u, const double d, MeshLawForces &out) const
+      [[gnu::noinline]] void forces(const MeshPhase &phase, const double u, const double d,
+                                    MeshLawForces &out) const
       {
         const auto member = [&](const LadderMember &m, const auto &ph, const double a,
                                 const double p, double &F, double &dF_da, double &dF_dt) {
@@ -924,6 +1099,97 @@ namespace hertzgear::dynamics
         });
         out.damping_weight       = power_law::H(d, n);
         out.damping_weight_slope = power_law::H_prime(d, n);
+      }
+
+      // forces<false> by segments (LadderMember::Segment): those of the members that vary kept by
+      // phase on the thread (PhaseSlot), those of a member that does not vary made at
+      // construction. The same forces to the bit.
+      void values(const MeshPhase &phase, const double u, const double d, MeshLawForces &out) const
+      {
+        PhaseSlot *const slot = varies_with_phase() ? &phase_slot(phase.value(0)) : nullptr;
+        value(structural, slot, 0, u, 1.0, out.structural, out.structural_du, out.structural_dt);
+        value(hertz, slot, 1, d, n, out.hertz, out.hertz_ddelta, out.hertz_dt);
+        if (n == 1.5)
+          {
+            // Point contact: H and H' of power_law with their one square root shared.
+            const double r           = std::sqrt(std::abs(d));
+            out.damping_weight       = std::abs(d) * r;
+            out.damping_weight_slope = n * sign(d) * r;
+          }
+        else
+          {
+            out.damping_weight       = power_law::H(d, n);
+            out.damping_weight_slope = power_law::H_prime(d, n);
+          }
+      }
+      // One member's part of values() at its compression a (p its exponent).
+      void value(const LadderMember &m, PhaseSlot *const slot, const unsigned which, const double a,
+                 const double p, double &F, double &dF_da, double &dF_dt) const
+      {
+        if (a == 0.0)
+          {
+            // F = c_0 a^p near zero: slope c_0 for p = 1, else 0.
+            F     = 0.0;
+            dF_dt = 0.0;
+            dF_da = p == 1.0 ? value(m, slot, which, 1.0e-30).dF_da : 0.0;
+            return;
+          }
+        // The odd extension (as forces<false>: a sign of -1 negates, exactly).
+        const bool        tension = a < 0.0;
+        const MemberForce f       = value(m, slot, which, tension ? -a : a);
+        F                         = tension ? -f.F : f.F;
+        dF_da                     = f.dF_da;
+        dF_dt                     = tension ? -f.dF_dt : f.dF_dt;
+      }
+      // The force of a member at a > 0 without rates: on its segment kept in the phase's slot if
+      // it varies (found anew when X has left it), else on its segment at the mean.
+      MemberForce value(const LadderMember &m, PhaseSlot *const slot, const unsigned which,
+                        const double a) const
+      {
+        const double X = std::log(a);
+        if (!m.varies())
+          return m.force(m.mean_segment(X), X, a);
+        LadderMember::Segment &s = slot->segment[which];
+        if (!s.holds(X))
+          find_segment(m, *slot, which, X);
+        return m.force(s, X, a);
+      }
+      // Out of the common path (an evaluation at a phase and in an interval met before): the
+      // search and the piece of a segment, the cell of a new phase.
+      [[gnu::noinline]] void find_segment(const LadderMember &m, PhaseSlot &slot,
+                                          const unsigned which, const double X) const
+      {
+        m.find_segment(GridPhase(which == 0 ? structural_grid : hertz_grid, per_member(), slot.cell),
+                       X, slot.segment[which]);
+      }
+
+      // The slot of the mesh angle theta on this thread, filled (its cell, no segments) if it
+      // holds another.
+      PhaseSlot &phase_slot(const double theta) const
+      {
+        std::uint64_t bits;
+        std::memcpy(&bits, &theta, sizeof bits);
+        PhaseSlots        &slots = phase_slots;
+        const std::uint8_t hash  = std::uint8_t((bits * 0x9E3779B97F4A7C15ull) >> 56);
+        PhaseSlot         &found = slots.slot[slots.index[hash]];
+        if (found.theta == bits && found.law == id())
+          return found;
+        return fill_slot(theta, bits, hash);
+      }
+      [[gnu::noinline]] PhaseSlot &fill_slot(const double theta, const std::uint64_t bits,
+                                             const std::uint8_t hash) const
+      {
+        PhaseSlots    &slots = phase_slots;
+        const unsigned j     = slots.next;
+        slots.next           = j + 1 == PhaseSlots::n ? 0 : j + 1;
+        slots.index[hash]    = std::uint8_t(j);
+        PhaseSlot &slot      = slots.slot[j];
+        slot.law             = id();
+        slot.theta           = bits;
+        slot.cell            = GridCell(n_nodes, theta, 0.0, false);
+        slot.segment[0].clear();
+        slot.segment[1].clear();
+        return slot;
       }
 
       static std::vector<std::vector<double>> structural_part(const table::LoadLadder &l)
