@@ -299,23 +299,31 @@ namespace hertzgear::contact
         // inclined contact line), so the offsets between cells are taken in the developed
         // pinion flank (FlankSurface::developed_offset_mm), each cell a rectangle of the flank's
         // area du x dz / cos(beta_b) there (a development of the cell to first order).
+        // The offset of j from i is minus that of i from j and a centred rectangle's field is
+        // symmetric, so the block is symmetric: each pair of cells is evaluated once, and once
+        // for both bodies when they are of one material.
         const meshing::FlankSurface flank = pinion.flank();
         const double                hu = 0.5 * g.du, hz = 0.5 * g.dz / cos_bb;
+        const bool same_material = materials[0].youngs_modulus_MPa == materials[1].youngs_modulus_MPa &&
+                                   materials[0].poisson_ratio == materials[1].poisson_ratio;
         for (unsigned int b = 0; b < g.pairs.size(); ++b)
           for (unsigned int i = 0; i < n_block; ++i)
-            for (unsigned int j = 0; j < n_block; ++j)
+            for (unsigned int j = i; j < n_block; ++j)
               {
                 const unsigned int    ki = b * n_block + i, kj = b * n_block + j;
                 const Eigen::Vector2d d  = flank.developed_offset_mm(g.pinion_point[ki], g.pinion_point[kj]);
                 double                c  = 0;
-                for (unsigned int body = 0; body < 2; ++body)
+                for (unsigned int body = 0; body < (same_material ? 1u : 2u); ++body)
                   {
                     const double E  = materials[body].youngs_modulus_MPa;
                     const double nu = materials[body].poisson_ratio;
                     c += half_space::rectangle_displacement_at_depth(d.x(), d.y(), 0.0, hu, hz, 1.0, E, nu) -
                          half_space::rectangle_displacement_at_depth(d.x(), d.y(), depth, hu, hz, 1.0, E, nu);
                   }
+                if (same_material)
+                  c *= 2;
                 g.local(ki, kj) = c;
+                g.local(kj, ki) = c;
               }
       }
 
