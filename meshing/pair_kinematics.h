@@ -150,7 +150,8 @@ namespace hertzgear::meshing
     // action (exactly 1 for a spur pair).
     double cos_base_helix() const { return cos_beta_b; }
     // Shaft misalignment along the line of action over the face width, f_eq = f_ma + f_Sd
-    // sin(alpha_w) + f_Sb cos(alpha_w) [mm], and its gap contribution f_eq z / b.
+    // sin(alpha_w) + f_Sb cos(alpha_w) [mm], and its gap contribution f_eq z / b (added to the
+    // gaps as a removal normal to the flanks, spur or helical).
     double misalignment_mm() const;
     double misalignment_gap_mm(double z_mm) const;
     // The common face width b = min(b_1, b_2) [mm] (the contact grid's).

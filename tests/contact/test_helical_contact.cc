@@ -166,7 +166,9 @@ TEST(HelicalContact, LoadIsBalancedOnTheFlanksAndStraddlesTheInclinedLines)
                   // The pinion roll of a cell at u is sqrt(line^2 + 2 r_b1 u).
                   const double s2 = line * line + 2 * kin.pinion().base_radius_mm() * p.cell_u_mm[k];
                   if (s2 > 0)
-                    EXPECT_NEAR(p.cell_pinion_roll_mm[k], std::sqrt(s2), 1e-12 * line);
+                    {
+                      EXPECT_NEAR(p.cell_pinion_roll_mm[k], std::sqrt(s2), 1e-12 * line);
+                    }
                   if (p.cell_pressure_MPa[k] > 0)
                     {
                       load += p.cell_pressure_MPa[k];
