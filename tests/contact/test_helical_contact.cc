@@ -60,15 +60,16 @@ namespace
   }
 } // namespace
 
-// Requirement: a spur pair gives today's results: the golden values below are those of the
-// contact stage before it took helical pairs (crowned pair with tip relief and misalignment, 3D,
-// 12 x 8 cells, whole face), for STE, unloaded STE, tangent stiffness, Hertzian penetration, the
-// first pair's load share and face semi-axis and the contact centre, and for the kinematics' gap,
-// rigid approach and separation. The build that made them reproduces them bit for bit; 1e-12
+// Requirement: a helical pair's terms (cos(beta_b) factors, inclined lines, developed offsets) leave
+// a spur pair's results as they were: the golden values below were recorded with the spur-only
+// contact stage (crowned pair with tip relief and misalignment, 3D, 12 x 8 cells, whole face), for
+// STE, unloaded STE, tangent stiffness, Hertzian penetration, the first pair's load share and face
+// semi-axis and the contact centre, and for the kinematics' gap, rigid approach and separation.
+// The build that made them reproduces them bit for bit; 1e-12
 // relative leaves room for another compiler's or optimisation level's rounding in the contact
 // solve (Eigen's reductions), far below any physical effect (the helical terms are factors
 // cos(beta_b) and slopes that are exactly 1 and 0 here).
-TEST(HelicalContact, SpurPairGivesTodaysResults)
+TEST(HelicalContact, SpurPairKeepsItsGoldenResults)
 {
   auto p                        = hertzgear::testing::spur_pair({23, 34, 20.0, 0.02});
   p.pinion.tip_relief_mm        = 0.015;

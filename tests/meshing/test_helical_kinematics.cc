@@ -524,11 +524,11 @@ TEST(HelicalKinematics, UnloadedGapVanishesOnTheContactLinesAndGrowsAsForASpurPa
 
 // Requirement: the rigid approach of a helical pair is the smallest sum of the modifications of
 // both flanks and the misalignment over the contact lines inside the field of action (normal to
-// the flanks), found exactly although profile and lead parts no longer separate (the roll along
-// a line changes with z): it equals the minimum of a dense sampling of every line (20001 points
-// per line) up to that sampling's own error (curvatures of the modifications below 0.01 / mm^2
-// over a spacing of 1e-3 mm: below 1e-9 mm), and is never above it (1e-15 mm round-off). The
-// unloaded gap is then >= 0 on every contact line and 0 where the sum is smallest.
+// the flanks), found exactly although profile and lead parts do not separate as for a spur pair
+// (the roll along a line changes with z): it equals the minimum of a dense sampling of every line
+// (20001 points per line) up to that sampling's own error (curvatures of the modifications below
+// 0.01 / mm^2 over a spacing of 1e-3 mm: below 1e-9 mm), and is never above it (1e-15 mm
+// round-off). The unloaded gap is then >= 0 on every contact line (to 1e-12 mm of rounding).
 TEST(HelicalKinematics, RigidApproachIsTheSmallestModificationOnTheContactLines)
 {
   for (const HelixHand hand : {HelixHand::right, HelixHand::left})
