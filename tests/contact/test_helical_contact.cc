@@ -1,6 +1,6 @@
 // Requirements on the contact stage for helical pairs (contact/mesh_cycle.h, docs/theory-tca.md
 // "Helical pairs on the contact grid"): a spur pair's results unchanged, the band of every face
-// column on its pair's inclined contact line, the balance of the normal force on the flank's
+// column on its pair's inclined contact line (a straight line of the flank), the balance of the normal force on the flank's
 // area, the loaded contact length following the kinematic contact lines over the cycle, the limit
 // of a vanishing helix angle, and the mirror symmetry of the two hands. Rigid bodies only (the
 // local half-space part, or the half-space as the body), so that each answer has an independent
@@ -103,6 +103,37 @@ TEST(HelicalContact, SpurPairKeepsItsGoldenResults)
   EXPECT_NEAR(kin.unloaded_gap_mm(0, 0.3, 20.0, 3.0), 0x1.036957780c8ecp+1, 1e-15 * 2.03);
   EXPECT_NEAR(kin.rigid_approach_mm(0.3), -0x1.47ae147ae147bp-13, 1e-15);
   EXPECT_NEAR(kin.separation_mm(1, 0.7, 28.0, -6.0), 0x1.2dfd05dd68ff1p+8, 1e-15 * 302);
+}
+
+// Requirement: the band centres of a pair's face columns, s_j(tau) + slope z on the pinion flank,
+// lie on one straight generator of the helicoid (the contact line on the flank), which in the
+// developed flank runs straight along the face: between the centres of any two columns the
+// developed offset (FlankSurface::developed_offset_mm) has no component across the profile and the
+// length (z_2 - z_1) / cos(beta_b), which is also their 3D distance. The columns shifted along the
+// profile therefore form a regular band across the line in the developed flank, the premise of
+// cells of one size du x dz / cos(beta_b) on a helical grid (docs/theory-tca.md). Both hands;
+// tolerances: rounding of coordinates of order 50 mm, 1e-12 mm.
+TEST(HelicalContact, ColumnCentresLieOnAStraightLineOfTheFlank)
+{
+  for (const auto hand : {meshing::HelixHand::right, meshing::HelixHand::left})
+    {
+      const meshing::PairKinematics kin(helical_pair(15 * deg, hand));
+      const meshing::FlankSurface   flank  = kin.pinion().flank();
+      const double                  cos_bb = kin.cos_base_helix();
+      for (const double tau : {0.1, 0.6})
+        for (const int j : kin.pairs_in_contact(tau))
+          for (const double z1 : {-10.0, -3.0})
+            for (const double z2 : {-2.5, 4.0, 10.0})
+              {
+                const meshing::FlankPoint a{j, kin.contact_roll_distance_mm(j, tau, z2), z2};
+                const meshing::FlankPoint b{j, kin.contact_roll_distance_mm(j, tau, z1), z1};
+                const Eigen::Vector2d     d = flank.developed_offset_mm(a, b);
+                EXPECT_NEAR(d.x(), 0.0, 1e-12) << "tau " << tau << " pair " << j;
+                EXPECT_NEAR(d.y(), (z2 - z1) / cos_bb, 1e-12);
+                const double chord = (flank.point(a.roll_mm, z2) - flank.point(b.roll_mm, z1)).norm();
+                EXPECT_NEAR(chord, (z2 - z1) / cos_bb, 1e-12);
+              }
+    }
 }
 
 // Requirements, helical pair (15 deg) with rigid bodies, the local half-space part alone
