@@ -8,8 +8,10 @@ namespace hertzgear::contact
   // A body whose structural compliance at the reference depth is the half-space's: the
   // displacement at depth d below flank point `reading` of a unit force spread uniformly over
   // the TCA grid cell centred at flank point `load` (Boussinesq-Love, exact), at their offset
-  // in the developed flank (FlankSurface::developed_offset_mm). `flank` views a GearGeometry
-  // that must outlive this body.
+  // in the developed flank (FlankSurface::developed_offset_mm). The cell's half-sides are those
+  // on the flank: du / 2 across the profile and, along the face, dz / (2 cos(beta_b)) for a
+  // helical flank (dz / 2 spur), so that the rectangle has the cell's area du dz / cos(beta_b).
+  // `flank` views a GearGeometry that must outlive this body.
   class HalfSpaceFlankCompliance : public FlankCompliance
   {
   public:

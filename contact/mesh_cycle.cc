@@ -3,6 +3,7 @@
 #include "common/errors.h"
 #include "contact/half_space.h"
 #include "contact/hertz.h"
+#include "meshing/flank_surface.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,7 +33,9 @@ namespace hertzgear::contact
     }
 
     // Hertz's elliptical contact of the whole load on one pair at the pitch point (crowned
-    // flanks: kappa_face > 0).
+    // flanks: kappa_face > 0). load_N along the transverse line of action; a helical flank's
+    // normal curvature across the contact line is the transverse one times cos(beta_b) and the
+    // normal force load_N / cos(beta_b) (both exact no-ops for a spur pair).
     hertz::EllipticalContact pitch_point_ellipse(const meshing::PairKinematics &kin,
                                                  const Material m[2], const double load_N,
                                                  const double kappa_face)
@@ -40,7 +43,8 @@ namespace hertzgear::contact
       const auto   c = kin.point('C');
       const double E = hertz::contact_modulus(m[0], m[1]);
       const double R = hertz::effective_radius(c.rho_pinion_mm, c.rho_gear_mm);
-      return hertz::elliptical_contact(load_N, 1.0 / R, kappa_face, E);
+      const double cb = kin.cos_base_helix();
+      return hertz::elliptical_contact(load_N / cb, cb / R, kappa_face, E);
     }
 
     // Contact half-width across the profile of the whole load on one pair at the pitch point,
@@ -48,9 +52,11 @@ namespace hertzgear::contact
     double hertz_half_width_mm(const meshing::PairKinematics &kin, const Material m[2],
                                const double load_N)
     {
+      // Helical: the normal load load_N / cos(beta_b) on a line of length b / cos(beta_b) is
+      // load_N / b per length, and the normal radius is the transverse one / cos(beta_b).
       const auto   c    = kin.point('C');
       const double E    = hertz::contact_modulus(m[0], m[1]);
-      const double R    = hertz::effective_radius(c.rho_pinion_mm, c.rho_gear_mm);
+      const double R    = hertz::effective_radius(c.rho_pinion_mm, c.rho_gear_mm) / kin.cos_base_helix();
       const double b    = std::min(kin.pinion().face_width_mm(), kin.gear().face_width_mm());
       double       half = hertz::line_contact(load_N / b, R, E).half_width;
       const double kappa_face = face_curvature_per_mm(kin);
@@ -66,7 +72,13 @@ namespace hertzgear::contact
   struct MeshCycle::Grid
   {
     std::vector<int>    pairs;     // pair index per block
-    std::vector<double> roll_mm;   // contact-line pinion roll per block
+    std::vector<double> roll_mm;   // contact-line pinion roll per block, at mid-face
+    // The band centre of each face column, block-major: the contact line's roll at the column's
+    // z (s_j + slope z; spur: roll_mm of the block in every column), and whether it lies on the
+    // path of contact (extended by extended_contact_pitches): a column whose line lies beyond it
+    // carries no load, as a spur pair beyond it is not on the grid.
+    std::vector<double> column_roll_mm;
+    std::vector<bool>   column_in_path;
     unsigned int        n_u = 0, n_z = 0;
     double              du = 0, dz = 0, face_width = 0;
     // Face extent of the cells [mm] (the whole face: -face_width/2 .. face_width/2), and whether
@@ -94,10 +106,10 @@ namespace hertzgear::contact
     , compliances{&pinion_compliance, &gear_compliance}
     , settings(settings)
   {
-    // The gaps, contact grid and loads below are measured along one contact roll per pair in
-    // the transverse section: a spur pair's mesh cycle.
-    meshing::require_spur_pair(kinematics.pinion().parameters(), kinematics.gear().parameters(),
-                               "the contact stage (mesh cycle)");
+    // Spur or helical: a helical pair's band follows its inclined contact lines column by column
+    // (build_grid), the contact problem is normal to the flanks and the load and approach are
+    // along the transverse line of action (docs/theory-tca.md, "Helical pairs on the contact
+    // grid").
     HG_REQUIRE_INPUT(settings.n_positions >= 2 * settings.n_harmonics + 1,
                      "{positions_per_cycle} = ", settings.n_positions,
                      " is too few for {harmonics} = ", settings.n_harmonics,
@@ -165,25 +177,12 @@ namespace hertzgear::contact
     const double s_E = kinematics.point('E').roll_distance_mm;
     const double p_b = kinematics.base_pitch_mm();
     const double ext = settings.extended_contact_pitches * p_b;
-    for (int pair = -3; pair <= 3; ++pair)
-      {
-        const double s = kinematics.contact_roll_distance_mm(pair, mesh_phase);
-        if (s >= s_A - ext - 1e-12 && s <= s_E + ext + 1e-12)
-          {
-            g.pairs.push_back(pair);
-            g.roll_mm.push_back(s);
-          }
-      }
-    HG_REQUIRE_NUMERIC(!g.pairs.empty(), "no tooth pair in contact at mesh phase ", mesh_phase);
-    for (const int pair : g.pairs)
-      HG_REQUIRE_INPUT(compliances[0]->covers_tooth(pair) && compliances[1]->covers_tooth(-pair),
-                       "tooth pair ", pair, " can be in contact at mesh phase ", mesh_phase,
-                       " but its teeth are not in the FE compliance table; mesh more teeth per "
-                       "sector ({teeth_per_sector})");
 
     const auto  &pinion = kinematics.pinion();
     const auto  &gear   = kinematics.gear();
     const double r_b1   = pinion.base_radius_mm();
+    const double slope  = kinematics.contact_line_slope(); // 0 spur
+    const double cos_bb = kinematics.cos_base_helix();     // 1 spur
     g.face_width        = std::min(pinion.face_width_mm(), gear.face_width_mm());
     g.n_u               = settings.profile_cells;
     g.n_z               = settings.plane_strain ? 1 : settings.face_cells;
@@ -195,6 +194,44 @@ namespace hertzgear::contact
     g.z_min_is_face_end = g.z_min <= -0.5 * g.face_width + tol;
     g.z_max_is_face_end = g.z_max >= 0.5 * g.face_width - tol;
     g.dz                = (g.z_max - g.z_min) / g.n_z;
+    const auto column_z = [&](const unsigned int iz) { return g.z_min + (iz + 0.5) * g.dz; };
+
+    // The pairs whose contact line lies on the (extended) path of contact in some face column of
+    // the grid (spur: at its one roll s_j).
+    const auto in_path = [&](const double s) { return s >= s_A - ext - 1e-12 && s <= s_E + ext + 1e-12; };
+    const double reach   = std::abs(slope) * std::max(std::abs(g.z_min), std::abs(g.z_max));
+    const int    n_reach = static_cast<int>(std::ceil(reach / p_b));
+    for (int pair = -3 - n_reach; pair <= 3 + n_reach; ++pair)
+      {
+        const double s = kinematics.contact_roll_distance_mm(pair, mesh_phase);
+        bool         any = in_path(s);
+        if (slope != 0)
+          {
+            any = false;
+            for (unsigned int iz = 0; iz < g.n_z; ++iz)
+              any = any || in_path(kinematics.contact_roll_distance_mm(pair, mesh_phase, column_z(iz)));
+          }
+        if (any)
+          {
+            g.pairs.push_back(pair);
+            g.roll_mm.push_back(s);
+          }
+      }
+    HG_REQUIRE_NUMERIC(!g.pairs.empty(), "no tooth pair in contact at mesh phase ", mesh_phase);
+    for (const int pair : g.pairs)
+      HG_REQUIRE_INPUT(compliances[0]->covers_tooth(pair) && compliances[1]->covers_tooth(-pair),
+                       "tooth pair ", pair, " can be in contact at mesh phase ", mesh_phase,
+                       " but its teeth are not in the FE compliance table; mesh more teeth per "
+                       "sector ({teeth_per_sector})");
+    for (unsigned int b = 0; b < g.pairs.size(); ++b)
+      for (unsigned int iz = 0; iz < g.n_z; ++iz)
+        {
+          const double sc = slope == 0 ? g.roll_mm[b] :
+                                         kinematics.contact_roll_distance_mm(g.pairs[b], mesh_phase,
+                                                                             column_z(iz));
+          g.column_roll_mm.push_back(sc);
+          g.column_in_path.push_back(in_path(sc));
+        }
 
     // Flank extents as roll distances: form circle to tip circle of each body.
     const auto roll_at = [](const meshing::GearGeometry &gg, const double radius) {
@@ -208,19 +245,22 @@ namespace hertzgear::contact
     const unsigned int n_block = g.n_u * g.n_z;
     const unsigned int n       = n_block * static_cast<unsigned int>(g.pairs.size());
     g.gap.resize(n);
-    g.area.setConstant(n, g.du * g.dz);
+    // The cell's area on the flank: du dz / cos(beta_b), the helicoid's area element in (U, z)
+    // (FlankSurface::developed_offset_mm; exactly du dz for a spur flank).
+    g.area.setConstant(n, g.du * g.dz / cos_bb);
     for (unsigned int b = 0; b < g.pairs.size(); ++b)
       for (unsigned int iz = 0; iz < g.n_z; ++iz)
         for (unsigned int iu = 0; iu < g.n_u; ++iu)
           {
             const double u  = -w + (iu + 0.5) * g.du; // surface distance across the profile
-            const double z  = g.z_min + (iz + 0.5) * g.dz;
-            const double sc = g.roll_mm[b];
+            const double z  = column_z(iz);
+            const double sc = g.column_roll_mm[b * g.n_z + iz];
             // involute arc length from the base circle is s^2 / (2 r_b): invert it exactly
             const double s2 = sc * sc + 2.0 * r_b1 * u;
             const double s  = std::sqrt(std::max(s2, 0.0));
-            const double sg = kinematics.gear_roll_at_mm(g.pairs[b], mesh_phase, s);
-            const bool   on_flanks = s2 > 0 && s >= pinion_roll_min && s <= pinion_roll_max &&
+            const double sg = kinematics.gear_roll_at_mm(g.pairs[b], mesh_phase, s, z);
+            const bool   on_flanks = g.column_in_path[b * g.n_z + iz] && s2 > 0 &&
+                                   s >= pinion_roll_min && s <= pinion_roll_max &&
                                    sg >= gear_roll_min && sg <= gear_roll_max;
             const unsigned int k = b * n_block + iu + g.n_u * iz;
             g.cell_block.push_back(static_cast<int>(b));
@@ -229,24 +269,63 @@ namespace hertzgear::contact
             g.pinion_point.push_back({g.pairs[b], s, z});
             g.gear_point.push_back({-g.pairs[b], sg, z});
             g.on_flank.push_back(on_flanks);
+            // Normal to the flanks (PairKinematics::unloaded_gap_mm), as the compliances.
             g.gap(k) = on_flanks ? kinematics.unloaded_gap_mm(g.pairs[b], mesh_phase, s, z) :
                                    no_flank_gap_mm;
           }
 
     // Local part: per pair, both bodies, surface minus reference depth (the FE counts the rest).
     const double depth = compliances[0]->reference_depth_mm();
-    const auto   grid  = half_space::ContactGrid::covering(-w, w, g.z_min, g.z_max, g.n_u, g.n_z);
-    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(n_block, n_block);
-    for (unsigned int body = 0; body < 2; ++body)
+    g.local            = Eigen::MatrixXd::Zero(n, n);
+    if (slope == 0)
       {
-        const double E  = materials[body].youngs_modulus_MPa;
-        const double nu = materials[body].poisson_ratio;
-        block += half_space::influence_matrix(grid, 0.0, E, nu) -
-                 half_space::influence_matrix(grid, depth, E, nu);
+        // Spur: the cells of every pair form one regular grid in (u, z), the development of the
+        // extruded involute.
+        const auto grid = half_space::ContactGrid::covering(-w, w, g.z_min, g.z_max, g.n_u, g.n_z);
+        Eigen::MatrixXd block = Eigen::MatrixXd::Zero(n_block, n_block);
+        for (unsigned int body = 0; body < 2; ++body)
+          {
+            const double E  = materials[body].youngs_modulus_MPa;
+            const double nu = materials[body].poisson_ratio;
+            block += half_space::influence_matrix(grid, 0.0, E, nu) -
+                     half_space::influence_matrix(grid, depth, E, nu);
+          }
+        for (unsigned int b = 0; b < g.pairs.size(); ++b)
+          g.local.block(b * n_block, b * n_block, n_block, n_block) = block;
       }
-    g.local = Eigen::MatrixXd::Zero(n, n);
-    for (unsigned int b = 0; b < g.pairs.size(); ++b)
-      g.local.block(b * n_block, b * n_block, n_block, n_block) = block;
+    else
+      {
+        // Helical: the columns are shifted against each other along the profile (each on its
+        // inclined contact line), so the offsets between cells are taken in the developed
+        // pinion flank (FlankSurface::developed_offset_mm), each cell a rectangle of the flank's
+        // area du x dz / cos(beta_b) there (a development of the cell to first order).
+        // The offset of j from i is minus that of i from j and a centred rectangle's field is
+        // symmetric, so the block is symmetric: each pair of cells is evaluated once, and once
+        // for both bodies when they are of one material.
+        const meshing::FlankSurface flank = pinion.flank();
+        const double                hu = 0.5 * g.du, hz = 0.5 * g.dz / cos_bb;
+        const bool same_material = materials[0].youngs_modulus_MPa == materials[1].youngs_modulus_MPa &&
+                                   materials[0].poisson_ratio == materials[1].poisson_ratio;
+        for (unsigned int b = 0; b < g.pairs.size(); ++b)
+          for (unsigned int i = 0; i < n_block; ++i)
+            for (unsigned int j = i; j < n_block; ++j)
+              {
+                const unsigned int    ki = b * n_block + i, kj = b * n_block + j;
+                const Eigen::Vector2d d  = flank.developed_offset_mm(g.pinion_point[ki], g.pinion_point[kj]);
+                double                c  = 0;
+                for (unsigned int body = 0; body < (same_material ? 1u : 2u); ++body)
+                  {
+                    const double E  = materials[body].youngs_modulus_MPa;
+                    const double nu = materials[body].poisson_ratio;
+                    c += half_space::rectangle_displacement_at_depth(d.x(), d.y(), 0.0, hu, hz, 1.0, E, nu) -
+                         half_space::rectangle_displacement_at_depth(d.x(), d.y(), depth, hu, hz, 1.0, E, nu);
+                  }
+                if (same_material)
+                  c *= 2;
+                g.local(ki, kj) = c;
+                g.local(kj, ki) = c;
+              }
+      }
 
     // Structural part of both bodies, per unit pressure on cell j (force = p A_j).
     g.compliance = g.local;
@@ -264,7 +343,8 @@ namespace hertzgear::contact
     problem.compliance = g.compliance;
     problem.gap        = g.gap;
     problem.area       = g.area;
-    problem.load       = load_N;
+    // The normal force on the flanks: load_N is along the transverse line of action.
+    problem.load       = load_N / kinematics.cos_base_helix();
     ContactSettings contact_settings;
     contact_settings.max_iterations = settings.max_contact_iterations;
     return ContactSolver(contact_settings).solve(problem);
@@ -339,6 +419,10 @@ namespace hertzgear::contact
           ++out.enlargements;
         }
     };
+    // Helical pairs: the contact problem is normal to the flanks (gaps, compliances, pressures,
+    // its approach); load_N and every approach and stiffness reported are along the transverse
+    // line of action: a normal approach is delta_n / cos(beta_b) there (cos(beta_b) = 1 spur).
+    const double           cos_bb  = kinematics.cos_base_helix();
     const Solved           at_load = solve_on_own_grid(load_N);
     const Grid            &g       = *at_load.grid;
     const ContactSolution &sol     = at_load.sol;
@@ -352,8 +436,8 @@ namespace hertzgear::contact
     // the first point to touch may lie slightly off them, which the grid resolves: the unloaded
     // STE of the discrete flanks is the kinematic one plus the smallest cell gap.
     const double rigid = kinematics.rigid_approach_mm(mesh_phase);
-    r.unloaded_ste_mm  = rigid + g.gap.minCoeff();
-    r.ste_mm           = rigid + sol.approach;
+    r.unloaded_ste_mm  = (rigid + g.gap.minCoeff()) / cos_bb;
+    r.ste_mm           = (rigid + sol.approach) / cos_bb;
     r.approach_mm      = r.ste_mm - r.unloaded_ste_mm;
     r.n_cells         = g.n_cells();
     r.n_active        = sol.n_active();
@@ -375,7 +459,7 @@ namespace hertzgear::contact
       {
         const auto approach_at = [&](const double load) {
           const Solved s = solve_on_own_grid(load);
-          return s.sol.approach - s.grid->gap.minCoeff();
+          return (s.sol.approach - s.grid->gap.minCoeff()) / cos_bb;
         };
         r.k_total_tangent_N_per_mm =
           2.0 * h * load_N / (approach_at(load_N * (1 + h)) - approach_at(load_N * (1 - h)));
@@ -384,7 +468,7 @@ namespace hertzgear::contact
       {
         const double d_plus  = solve_contact(g, load_N * (1 + h)).approach;
         const double d_minus = solve_contact(g, load_N * (1 - h)).approach;
-        r.k_total_tangent_N_per_mm = 2.0 * h * load_N / (d_plus - d_minus);
+        r.k_total_tangent_N_per_mm = 2.0 * h * load_N / ((d_plus - d_minus) / cos_bb);
       }
 
     const unsigned int n_block = g.n_u * g.n_z;
@@ -396,12 +480,14 @@ namespace hertzgear::contact
         ps.pair    = g.pairs[b];
         ps.roll_mm = g.roll_mm[b];
         unsigned int peak = b * n_block;
+        double       normal_force = 0; // on the flanks; its transverse part is the load's measure
         for (unsigned int k = b * n_block; k < (b + 1) * n_block; ++k)
           {
-            ps.force_N += sol.pressure(k) * g.area(k);
+            normal_force += sol.pressure(k) * g.area(k);
             if (sol.pressure(k) > sol.pressure(peak))
               peak = k;
           }
+        ps.force_N    = normal_force * cos_bb;
         ps.load_share = ps.force_N / load_N;
         if (ps.force_N > 0)
           {
@@ -416,7 +502,8 @@ namespace hertzgear::contact
                 return sol.pressure(k) * sol.pressure(k);
               }));
             ps.hertz_penetration_mm = value_at_contact_centre(
-              g, b, peak, sol.pressure, [&](const unsigned int k) { return local_displacement(k); });
+              g, b, peak, sol.pressure, [&](const unsigned int k) { return local_displacement(k); }) /
+              cos_bb;
             // Semi-axis across the profile from the force per length of the peak's face column,
             // for an elliptical (Hertz) distribution: F' = pi a p0 / 2.
             const unsigned int iz     = (peak - b * n_block) / g.n_u;
@@ -442,9 +529,10 @@ namespace hertzgear::contact
             // (Both edges of the grid's face extent are then the face's ends: a band is enlarged
             // until the contact stays inside it.)
             const bool reaches_edges = z_first == 0 && z_last == static_cast<int>(g.n_z) - 1;
+            // Both lengths on the flank (developed): the face extent over cos(beta_b), the normal force.
             ps.contact_b_mm = reaches_edges ?
-                                0.5 * (g.z_max - g.z_min) :
-                                3.0 * ps.force_N / (2.0 * M_PI * ps.contact_a_mm * ps.peak_pressure_MPa);
+                                0.5 * (g.z_max - g.z_min) / cos_bb :
+                                3.0 * normal_force / (2.0 * M_PI * ps.contact_a_mm * ps.peak_pressure_MPa);
           }
         weighted_penetration += ps.load_share * ps.hertz_penetration_mm;
         r.pairs.push_back(ps);

@@ -12,6 +12,12 @@
 // approach is separated from the total, and k_h, k_total, k_rest, STE and load sharing are fitted
 // by Fourier series over the cycle.
 //
+// Spur and helical pairs: a helical pair's contact band follows its inclined contact lines face
+// column by face column; the contact problem is solved normal to the flanks (gaps, compliances,
+// pressures on the flank's area), while the load given and every force, approach, STE and
+// stiffness reported are measured along the transverse line of action, as for a spur pair
+// (docs/theory-tca.md, "Helical pairs on the contact grid").
+//
 // Units inside: mm, N, MPa (so compliances are mm/N and pressures MPa).
 #include "contact/contact_solver.h"
 #include "common/fourier_series.h"
@@ -110,19 +116,20 @@ namespace hertzgear::contact
   struct PairState
   {
     int    pair            = 0;
-    double roll_mm         = 0; // pinion roll distance of the contact line
-    double force_N         = 0;
+    double roll_mm         = 0; // pinion roll distance of the contact line at mid-face (z = 0)
+    double force_N         = 0; // the pair's part of the load, along the transverse line of action
     double load_share      = 0;
-    double hertz_penetration_mm = 0; // local (half-space minus depth) part of the approach
-    double contact_a_mm    = 0; // semi-axis across the profile
-    double contact_b_mm    = 0; // semi-axis along the face width
+    // Local (half-space minus depth) part of the approach, along the transverse line of action.
+    double hertz_penetration_mm = 0;
+    double contact_a_mm    = 0; // semi-axis across the profile (on the flank)
+    double contact_b_mm    = 0; // semi-axis along the face width (on the flank)
     double peak_pressure_MPa = 0;
   };
 
   struct PositionResult
   {
     double                 mesh_phase = 0; // in cycles
-    double                 ste_mm     = 0; // loaded STE along the line of action
+    double                 ste_mm     = 0; // loaded STE along the (transverse) line of action
     double                 unloaded_ste_mm = 0; // of the discrete flanks, no load
     double                 approach_mm     = 0; // elastic approach (loaded - unloaded STE)
     double                 k_total_secant_N_per_mm  = 0;
@@ -149,7 +156,8 @@ namespace hertzgear::contact
     std::vector<int>    cell_pair;
     std::vector<double> cell_u_mm, cell_z_mm, cell_pressure_MPa;
     // Where each cell sits on the flanks (roll distances of the pinion and the gear point; the
-    // pinion tooth is +pair, the gear tooth -pair) and its area [mm^2].
+    // pinion tooth is +pair, the gear tooth -pair) and its area on the flank [mm^2] (du dz /
+    // cos(beta_b)); the cell pressures are normal to the flank, sum p A = load / cos(beta_b).
     std::vector<double> cell_pinion_roll_mm, cell_gear_roll_mm, cell_area_mm2;
   };
 
@@ -170,8 +178,9 @@ namespace hertzgear::contact
               const Material &gear_material, const FlankCompliance &pinion_compliance,
               const FlankCompliance &gear_compliance, const MeshCycleSettings &settings);
 
-    // Load along the line of action [N] (F_0 = T_1 / r_b1). `progress` is called after every
-    // position with its index and result.
+    // Load along the transverse line of action [N] (F_0 = T_1 / r_b1, as the stiffness stage
+    // passes it, spur or helical); the flanks carry the normal force F_0 / cos(beta_b).
+    // `progress` is called after every position with its index and result.
     MeshCycleResult
     run(double load_N,
         const std::function<void(unsigned int, const PositionResult &)> &progress = {}) const;

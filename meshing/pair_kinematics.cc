@@ -7,13 +7,64 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace hertzgear::meshing
 {
   namespace
   {
     constexpr double pi = 3.14159265358979323846;
-  }
+
+    // The smallest value of f over [knots.front(), knots.back()] (after sorting) and where, for f
+    // quadratic between neighbouring knots: on each piece the quadratic through three values gives
+    // the minimum exactly (an end or the vertex).
+    template <typename F>
+    std::pair<double, double> smallest_piecewise_quadratic(const F &f, std::vector<double> knots)
+    {
+      std::sort(knots.begin(), knots.end());
+      std::pair<double, double> best{0.0, std::numeric_limits<double>::infinity()};
+      const auto consider = [&](const double z) {
+        const double v = f(z);
+        if (v < best.second)
+          best = {z, v};
+      };
+      for (std::size_t i = 0; i + 1 < knots.size(); ++i)
+        {
+          const double a = knots[i], b = knots[i + 1], m = 0.5 * (a + b), h = 0.5 * (b - a);
+          if (h <= 0)
+            continue;
+          // Evaluate just inside the piece so that a knee's kink does not enter the quadratic.
+          const double e  = 1e-9 * h;
+          const double fa = f(a + e), fm = f(m), fb = f(b - e);
+          consider(a);
+          consider(b);
+          const double curvature = fa - 2 * fm + fb;
+          if (curvature > 0)
+            {
+              const double vertex = m - (h - e) * (fb - fa) / (2 * curvature);
+              if (vertex > a && vertex < b)
+                consider(vertex);
+            }
+        }
+      return best;
+    }
+
+    // Roll lengths where a gear's profile modification changes its formula: the start of the tip
+    // relief and the end of the root relief (GearGeometry::profile_modification_mm).
+    std::vector<double> profile_breakpoints_mm(const GearGeometry &g)
+    {
+      const auto         &p = g.parameters();
+      std::vector<double> rolls;
+      const double        tip = std::sqrt(std::pow(g.tip_radius_mm(), 2) - std::pow(g.base_radius_mm(), 2));
+      if (p.tip_relief_mm > 0 && p.tip_relief_length_mm > 0)
+        rolls.push_back(tip - p.tip_relief_length_mm);
+      const double xi_s = std::max(p.active_profile_start_roll_mm, g.base_radius_mm() * g.form_roll_angle());
+      if (p.root_relief_mm > 0 && p.root_relief_length_mm > 0)
+        rolls.push_back(xi_s + p.root_relief_length_mm);
+      return rolls;
+    }
+  } // namespace
 
   void require_spur_pair(const GearParameters &pinion, const GearParameters &gear,
                          const std::string &stage)
@@ -118,13 +169,6 @@ namespace hertzgear::meshing
         roll_per_face = (p1.hand == HelixHand::right ? 1.0 : -1.0) * std::tan(beta_b);
       }
     check();
-  }
-
-  void PairKinematics::require_spur(const char *function) const
-  {
-    HG_REQUIRE_INPUT(beta == 0, "PairKinematics::", function, ": helix angle ", beta * 180 / pi,
-                     " deg: helical pairs are not supported yet (it measures along the contact "
-                     "roll of a spur pair; ", field(pinion().parameters(), "helix_angle_rad"), ")");
   }
 
   double PairKinematics::face_contact_ratio() const
@@ -352,8 +396,15 @@ namespace hertzgear::meshing
   double PairKinematics::gear_roll_at_mm(const int pair, const double mesh_phase,
                                          const double pinion_roll_mm) const
   {
-    require_spur("gear_roll_at_mm");
-    const double s_j = contact_roll_distance_mm(pair, mesh_phase);
+    return gear_roll_at_mm(pair, mesh_phase, pinion_roll_mm, 0.0);
+  }
+
+  double PairKinematics::gear_roll_at_mm(const int pair, const double mesh_phase,
+                                         const double pinion_roll_mm, const double z_mm) const
+  {
+    // The section at z is the mid-face section of a spur pair whose contact line lies at s_j(tau, z)
+    // (both gears turned in mesh by their section angles; spur: s_j(tau) exactly).
+    const double s_j = contact_roll_distance_mm(pair, mesh_phase, z_mm);
     const double rb1 = pinion().base_radius_mm(), rb2 = gear().base_radius_mm();
     // Pinion flank point P of roll length s' (tangent point at theta_1 = centre + psi_b - u).
     const double    t1 = pinion_tooth_angle(s_j) + pinion().half_base_thickness_angle_rad() -
@@ -383,23 +434,31 @@ namespace hertzgear::meshing
     return rb2 * v;
   }
 
-  double PairKinematics::separation_mm(const int pair, const double mesh_phase,
-                                       const double pinion_roll_mm, const double z_mm) const
+  double PairKinematics::transverse_separation_mm(const int pair, const double mesh_phase,
+                                                  const double pinion_roll_mm, const double z_mm) const
   {
-    require_spur("separation_mm");
-    const double s_j = contact_roll_distance_mm(pair, mesh_phase);
+    const double s_j = contact_roll_distance_mm(pair, mesh_phase, z_mm);
     const double rb1 = pinion().base_radius_mm(), rb2 = gear().base_radius_mm();
     const double t1  = pinion_tooth_angle(s_j) + pinion().half_base_thickness_angle_rad() -
                       pinion_roll_mm / rb1;
     const Eigen::Vector2d P = rb1 * Eigen::Vector2d(std::cos(t1), std::sin(t1)) +
                               pinion_roll_mm * Eigen::Vector2d(-std::sin(t1), std::cos(t1));
-    const double    xi2 = gear_roll_at_mm(pair, mesh_phase, pinion_roll_mm);
+    const double    xi2 = gear_roll_at_mm(pair, mesh_phase, pinion_roll_mm, z_mm);
     const double    v   = xi2 / rb2;
     const double    t2  = gear_tooth_angle(s_j) + gear().half_base_thickness_angle_rad() - v;
     const Eigen::Vector2d Q = Eigen::Vector2d(a_w, 0) +
                               rb2 * Eigen::Vector2d(std::cos(t2), std::sin(t2)) +
                               xi2 * Eigen::Vector2d(-std::sin(t2), std::cos(t2));
-    const double geometric = (Q - P).dot(line_of_action_direction());
+    return (Q - P).dot(line_of_action_direction());
+  }
+
+  double PairKinematics::separation_mm(const int pair, const double mesh_phase,
+                                       const double pinion_roll_mm, const double z_mm) const
+  {
+    // Normal to the flanks: the transverse distance times cos(beta_b) (exactly 1 spur), plus the
+    // removals of both flanks (normal) and the misalignment gap (taken normal as well).
+    const double xi2       = gear_roll_at_mm(pair, mesh_phase, pinion_roll_mm, z_mm);
+    const double geometric = cos_beta_b * transverse_separation_mm(pair, mesh_phase, pinion_roll_mm, z_mm);
     return geometric + pinion().modification_mm(pinion_roll_mm, z_mm) +
            gear().modification_mm(xi2, z_mm) + misalignment_gap_mm(z_mm);
   }
@@ -428,54 +487,70 @@ namespace hertzgear::meshing
 
   std::pair<double, double> PairKinematics::smallest_lead_gap_mm() const
   {
-    // Piecewise quadratic in z between the lead relief knees of both flanks: on each piece the
-    // quadratic through three values gives the minimum exactly (an end or the vertex).
     const double        half = 0.5 * face_width_mm();
     std::vector<double> knots{-half, half};
     for (const GearGeometry *g : {&pinion(), &gear()})
       for (const double z : g->lead_breakpoints_mm())
         if (std::abs(z) < half)
           knots.push_back(z);
-    std::sort(knots.begin(), knots.end());
-    std::pair<double, double> best{0.0, std::numeric_limits<double>::infinity()};
-    const auto consider = [&](const double z) {
-      const double v = lead_gap_mm(z);
-      if (v < best.second)
-        best = {z, v};
-    };
-    for (std::size_t i = 0; i + 1 < knots.size(); ++i)
-      {
-        const double a = knots[i], b = knots[i + 1], m = 0.5 * (a + b), h = 0.5 * (b - a);
-        if (h <= 0)
-          continue;
-        // Evaluate just inside the piece so that a knee's kink does not enter the quadratic.
-        const double e  = 1e-9 * h;
-        const double fa = lead_gap_mm(a + e), fm = lead_gap_mm(m), fb = lead_gap_mm(b - e);
-        consider(a);
-        consider(b);
-        const double curvature = fa - 2 * fm + fb;
-        if (curvature > 0)
-          {
-            const double vertex = m - (h - e) * (fb - fa) / (2 * curvature);
-            if (vertex > a && vertex < b)
-              consider(vertex);
-          }
-      }
-    return best;
+    return smallest_piecewise_quadratic([this](const double z) { return lead_gap_mm(z); },
+                                        std::move(knots));
   }
 
   double PairKinematics::rigid_approach_mm(const double mesh_phase) const
   {
-    require_spur("rigid_approach_mm");
-    // The modifications separate into a lead part (z) and a profile part (roll length), so the
-    // smallest over the face is the profile part plus the smallest lead part.
-    const double lead     = smallest_lead_gap_mm().second;
-    double       approach = std::numeric_limits<double>::infinity();
+    double approach = std::numeric_limits<double>::infinity();
+    if (roll_per_face == 0)
+      {
+        // Spur: the modifications separate into a lead part (z) and a profile part (roll
+        // length), so the smallest over the face is the profile part plus the smallest lead part.
+        const double lead = smallest_lead_gap_mm().second;
+        for (const int j : pairs_in_contact(mesh_phase))
+          {
+            const double s = contact_roll_distance_mm(j, mesh_phase);
+            approach = std::min(approach, pinion().profile_modification_mm(s) +
+                                            gear().profile_modification_mm(L - s) + lead);
+          }
+        return approach;
+      }
+    // Helical: along the contact line of pair j, s = s_j + k z, the sum of the profile parts at s
+    // (pinion) and L - s (gear) and the lead part at z is piecewise quadratic in z, with knots
+    // where the line leaves the field of action or the face, at the lead knees and where s or
+    // L - s passes a profile knee: the same exact minimum per piece.
+    const double half = 0.5 * face_width_mm();
+    std::vector<double> rolls[2];
+    for (unsigned int body = 0; body < 2; ++body)
+      rolls[body] = profile_breakpoints_mm(gears[body]);
     for (const int j : pairs_in_contact(mesh_phase))
       {
-        const double s = contact_roll_distance_mm(j, mesh_phase);
-        approach = std::min(approach, pinion().profile_modification_mm(s) +
-                                        gear().profile_modification_mm(L - s) + lead);
+        const double s  = contact_roll_distance_mm(j, mesh_phase);
+        double       z0 = (s_A - s) / roll_per_face, z1 = (s_E - s) / roll_per_face;
+        if (z0 > z1)
+          std::swap(z0, z1);
+        const double lo = std::max(z0, -half), hi = std::min(z1, half);
+        const auto   along = [&](const double z) {
+          const double sz = contact_roll_distance_mm(j, mesh_phase, z);
+          return pinion().profile_modification_mm(sz) + gear().profile_modification_mm(L - sz) +
+                 lead_gap_mm(z);
+        };
+        if (!(hi > lo)) // the line touches the field at a corner only (pairs_in_contact's tolerance)
+          {
+            approach = std::min(approach, along(std::min(std::max(lo, -half), half)));
+            continue;
+          }
+        std::vector<double> knots{lo, hi};
+        const auto          add = [&](const double z) {
+          if (z > lo && z < hi)
+            knots.push_back(z);
+        };
+        for (const GearGeometry *g : {&pinion(), &gear()})
+          for (const double z : g->lead_breakpoints_mm())
+            add(z);
+        for (const double xi : rolls[0])
+          add((xi - s) / roll_per_face);
+        for (const double xi : rolls[1])
+          add((L - xi - s) / roll_per_face);
+        approach = std::min(approach, smallest_piecewise_quadratic(along, std::move(knots)).second);
       }
     return approach;
   }

@@ -1,6 +1,6 @@
 #pragma once
-// Kinematics of a spur or helical pair and the unloaded tooth contact analysis of a spur pair
-// (docs/geometry.md, "Pair kinematics" and "Helical pairs: kinematics").
+// Kinematics of a spur or helical pair and its unloaded tooth contact analysis (docs/geometry.md,
+// "Pair kinematics", "Helical pairs: kinematics" and "Helical pairs: gaps").
 //
 // Pair frame (mm, rad): pinion centre O1 at the origin, gear centre O2 = (a_w, 0), z along both
 // axes (0 = mid-face). The pinion drives counter-clockwise, the gear turns clockwise. Everything
@@ -124,22 +124,34 @@ namespace hertzgear::meshing
     BodyPlacement placement(unsigned int body, double mesh_phase) const;
     static int    sector_tooth_of_pair(unsigned int body, int central_tooth, int pair);
 
-    // Unloaded gap [mm] of tooth pair `pair` at mesh phase tau, between the pinion flank point
-    // at roll distance `pinion_roll_mm` (its radius is sqrt(r_b1^2 + s^2); s = s_j is the
-    // contact line) and the gear flank, measured along the line of action, at face position
-    // z (0 = mid-face), including crowning and tip relief of both flanks, minus the rigid
-    // approach: the smallest gap over the contact lines of all pairs in contact is 0.
-    // Rigid bodies in the unloaded position; this is the FE contact stage's gap input.
-    // This and the functions below that measure along one contact roll (separation, rigid
-    // approach, gear roll) are those of a spur pair: they throw InputError for a helical one.
+    // Unloaded gap [mm] of tooth pair `pair` at mesh phase tau between the pinion flank point at
+    // roll distance `pinion_roll_mm` and face position z (0 = mid-face) and the gear flank, minus
+    // the rigid approach: the smallest gap over the contact lines of all pairs in contact is 0.
+    // Rigid bodies in the unloaded position; this is the contact stage's gap input.
+    //
+    // Measured normal to the flanks (docs/geometry.md, "Helical pairs: gaps"): the transverse
+    // section at z is the mid-face section of a spur pair advanced along the line of action by
+    // contact_line_slope() z, so from the pinion point a line parallel to the transverse line of
+    // action e is intersected with the gear flank in that section (the gear roll at
+    // gear_roll_at_mm); that transverse distance times cos(beta_b) is the distance along the
+    // flank normal, to which the micro-geometry of both flanks (removed normal to the flank,
+    // FlankSurface::modification_mm) and the misalignment gap are added. Spur: cos(beta_b) = 1
+    // exactly, the normal and the line of action coincide.
     double unloaded_gap_mm(int pair, double mesh_phase, double pinion_roll_mm, double z_mm) const;
-    // Without the rigid approach (the separation of the nominal flanks plus modifications).
+    // Without the rigid approach (the separation of the nominal flanks plus modifications),
+    // normal to the flanks.
     double separation_mm(int pair, double mesh_phase, double pinion_roll_mm, double z_mm) const;
-    // The rigid approach at tau: min over the pairs in contact and over z of the modifications
-    // and the misalignment at the contact lines (exact: the lead part is piecewise quadratic).
+    // The rigid approach at tau, normal to the flanks: min over the pairs in contact and over their
+    // contact lines inside the field of action of the modifications and the misalignment there
+    // (exact: piecewise quadratic along each line). Along the transverse line of action it is
+    // this divided by cos(beta_b) (the kinematic transmission error).
     double rigid_approach_mm(double mesh_phase) const;
+    // cos(beta_b): a distance normal to the flanks per distance along the transverse line of
+    // action (exactly 1 for a spur pair).
+    double cos_base_helix() const { return cos_beta_b; }
     // Shaft misalignment along the line of action over the face width, f_eq = f_ma + f_Sd
-    // sin(alpha_w) + f_Sb cos(alpha_w) [mm], and its gap contribution f_eq z / b.
+    // sin(alpha_w) + f_Sb cos(alpha_w) [mm], and its gap contribution f_eq z / b (added to the
+    // gaps as a removal normal to the flanks, spur or helical).
     double misalignment_mm() const;
     double misalignment_gap_mm(double z_mm) const;
     // The common face width b = min(b_1, b_2) [mm] (the contact grid's).
@@ -148,7 +160,9 @@ namespace hertzgear::meshing
     // misalignment, and where over the face it is smallest (z, value) [mm].
     double                    lead_gap_mm(double z_mm) const;
     std::pair<double, double> smallest_lead_gap_mm() const;
-    // Gear flank point hit along e from the pinion flank point: its roll distance from T2.
+    // Gear flank point hit along e from the pinion flank point in the transverse section at face
+    // position z: its roll distance from T2. Without z: the mid-face section (spur: every one).
+    double gear_roll_at_mm(int pair, double mesh_phase, double pinion_roll_mm, double z_mm) const;
     double gear_roll_at_mm(int pair, double mesh_phase, double pinion_roll_mm) const;
 
   private:
@@ -163,6 +177,8 @@ namespace hertzgear::meshing
     double pinion_tooth_angle(double s) const;
     double gear_tooth_angle(double s) const;
     void   check() const;
-    void   require_spur(const char *function) const;
+    // The nominal flanks' distance along e in the transverse section at z (no modifications).
+    double transverse_separation_mm(int pair, double mesh_phase, double pinion_roll_mm,
+                                    double z_mm) const;
   };
 } // namespace hertzgear::meshing

@@ -293,10 +293,10 @@ TEST(FlankSurface, HelicalRemovalInTheTransverseSection)
 }
 
 // Requirement: a helical pair (same helix angle, opposite hands) is accepted by the pair
-// kinematics, and every stage that handles spur pairs only refuses it with an input error that
-// says helical pairs are not supported by that stage yet and names the helix angle and its field:
-// the contact stage (mesh cycle), the finite-element and closed-form stiffness sources, the ISO
-// 6336-2 nominal contact stress (ISO 6336-1's stiffness takes helical pairs).
+// kinematics and the contact stage (mesh cycle), and every stage that handles spur pairs only
+// refuses it with an input error that says helical pairs are not supported by that stage yet and
+// names the helix angle and its field: the finite-element and closed-form stiffness sources, the
+// ISO 6336-2 nominal contact stress (ISO 6336-1's stiffness takes helical pairs).
 TEST(FlankSurface, HelicalPairsAreRefusedByTheSpurOnlyStages)
 {
   EXPECT_NO_THROW(GearGeometry(pinion(15 * pi / 180)));
@@ -321,8 +321,7 @@ TEST(FlankSurface, HelicalPairsAreRefusedByTheSpurOnlyStages)
   };
   const hertzgear::Material                     steel;
   const hertzgear::contact::RigidFlankCompliance rigid(0.3);
-  refused([&] { hertzgear::contact::MeshCycle(kin, steel, steel, rigid, rigid, {}); },
-          "the contact stage (mesh cycle)");
+  EXPECT_NO_THROW(hertzgear::contact::MeshCycle(kin, steel, steel, rigid, rigid, {}));
   hertzgear::stiffness::StiffnessInput input;
   input.pair      = pair;
   input.torque_Nm = 210;
