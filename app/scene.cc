@@ -94,8 +94,8 @@ namespace hertzgear
             "Helix angle beta at the reference circle [deg] (ISO 21771), in [0, 45); 0 = spur. "
             "Given per gear as in ISO 21771; both gears of a pair must give the same value "
             "(checked). module_mm and pressure_angle_deg are then the normal values m_n, alpha_n. "
-            "Helical pairs are taken by `hertzgear geometry` only so far; the stiffness sources, "
-            "the FE stage and ISO 6336 refuse them.");
+            "A helical pair needs the 3D FE model (Stiffness/fe_dimension = 3); the closed-form "
+            "stiffness sources refuse it.");
       s.add("hand", g.hand, hand, Patterns::Selection("right|left"),
             "Hand of the helix: right or left (defaults: pinion right, gear left); an external "
             "pair needs opposite hands (checked). Ignored when helix_angle_deg = 0.");
@@ -522,7 +522,7 @@ namespace hertzgear
     void declare_scene(SceneSchema &s, Scene &sc)
     {
       s.enter("Gear pair", "The gear pair: pinion (driving) and gear (driven); spur, or helical "
-                           "(helix_angle_deg > 0, for `hertzgear geometry` only so far).");
+                           "(helix_angle_deg > 0).");
       declare_gear(s, sc.pinion, "Pinion", 23, 15.0, "right");
       declare_gear(s, sc.gear, "Gear", 34, 20.0, "left");
       s.leave();

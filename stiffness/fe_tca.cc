@@ -418,14 +418,23 @@ namespace hertzgear::stiffness
     }
 
     // Which teeth can carry load: pair j uses pinion tooth +j and gear tooth -j, and pairs
-    // 0 .. ceil(eps) - 1 meet the path of contact during one cycle (unloaded teeth need no column
-    // in the compliance table). A body meshed as a sector has teeth 0 .. N-1 with the central one
-    // N/2; a full gear has all. Throws ParameterError when the sector is too small.
+    // 0 .. ceil(eps_alpha) - 1 of a spur pair meet the path of contact during one cycle (unloaded
+    // teeth need no column in the compliance table). A helical pair's line j lies at
+    // s_A + (tau + j) p_b + k z, k b = eps_beta p_b: it meets the path [s_A, s_E] at some face
+    // position for some phase tau in [0, 1) when -1 - eps_beta / 2 < j <= eps_alpha + eps_beta / 2
+    // (the contact stage's pairs, contact::MeshCycle). A body meshed as a sector has teeth
+    // 0 .. N-1 with the central one N/2; a full gear has all. Throws ParameterError when the
+    // sector is too small.
     std::array<std::vector<int>, 2> loaded_teeth(const StiffnessInput &in,
                                                  const meshing::PairKinematics &kin)
     {
-      const auto &fe      = in.fe;
-      const int   n_pairs = static_cast<int>(std::ceil(kin.contact_ratio()));
+      const auto  &fe       = in.fe;
+      const double eps_beta = kin.face_contact_ratio();
+      const int    first    = eps_beta > 0 ? static_cast<int>(std::floor(-1 - 0.5 * eps_beta)) + 1 : 0;
+      const int    last     = eps_beta > 0 ?
+                                static_cast<int>(std::floor(kin.contact_ratio() + 0.5 * eps_beta + 1e-12)) :
+                                static_cast<int>(std::ceil(kin.contact_ratio())) - 1;
+      const int    n_pairs  = last - first + 1;
       const auto  has_tooth = [&](const int z, const int relative) {
         const int n_sector = fe.teeth_per_sector;
         if (fe.body_model == "full-gear" || n_sector >= z)
@@ -434,7 +443,7 @@ namespace hertzgear::stiffness
         return k >= 0 && k < n_sector;
       };
       std::array<std::vector<int>, 2> teeth;
-      for (int j = 0; j < n_pairs; ++j)
+      for (int j = first; j <= last; ++j)
         if (has_tooth(in.pair.pinion.teeth, j) && has_tooth(in.pair.gear.teeth, -j))
           {
             teeth[0].push_back(j);
@@ -445,7 +454,7 @@ namespace hertzgear::stiffness
                              msg(fe.teeth_per_sector, " is too few: the contact ratio ",
                                  kin.contact_ratio(), " needs ", n_pairs,
                                  " loaded teeth on each side of the sector's centre; use at least ",
-                                 2 * n_pairs + 1));
+                                 2 * std::max(last, -first) + 3));
       return teeth;
     }
 
@@ -1055,8 +1064,14 @@ namespace hertzgear::stiffness
       void check(const StiffnessInput &input) const override
       {
         const auto &fe = input.fe;
-        meshing::require_spur_pair(input.pair.pinion, input.pair.gear,
-                                   "the finite-element stiffness source (fem)");
+        // A helical pair's contact lines cross the face: its bodies are 3D (the sections turned
+        // along the face, docs/geometry.md "Meshes").
+        if (fe.dimension != 3 && input.pair.pinion.helix_angle_rad != 0)
+          throw ParameterError("dimension",
+                               msg(fe.dimension, " cannot represent a helical pair (helix angle ",
+                                   input.pair.pinion.helix_angle_rad * 180 / M_PI,
+                                   " deg, {pinion.helix_angle_rad}): its contact lines cross the "
+                                   "face; use 3"));
         if (!(input.torque_Nm > 0))
           throw ParameterError("torque_Nm", msg(input.torque_Nm, ": the loaded tooth contact "
                                                                  "analysis needs a positive torque"));

@@ -225,24 +225,25 @@ TEST(BadInput, ImpossibleHelicalPairsAreRefusedNamingTheHelixKey)
       expect_refused({command, helical + " " + set, key, "", reason});
 }
 
-// Class 1: a helical pair asked of a stage that cannot serve it yet gets that stage's refusal
-// from the command line (exit 2, the helix key named, no folder): the stiffness command with every
-// stiffness source that computes (the fem source in 2D and 3D, the closed-form ones), `run` with
-// the scene's own FE source, a 3D mesh with too few layers for its twist, and the dynamics on a
-// spur pair's table.
+// Class 1: a helical pair asked of a stage that cannot serve it gets that stage's refusal from
+// the command line (exit 2, the key named, no folder): the stiffness command with every
+// closed-form stiffness source (naming the helix angle), the FE source and `run` with the 2D
+// model (naming Stiffness/fe_dimension), a 3D mesh with too few layers for its twist, and the
+// dynamics on a spur pair's table.
 TEST(BadInput, HelicalScenesAreRefusedByTheStagesThatCannotServeThem)
 {
   const std::string helical = scene_path("paper_helical.prm");
   const std::string beta    = "Gear pair/Pinion/helix_angle_deg";
   const std::string refused = "helical pairs are not supported by ";
   for (const auto &[set, reason] : std::vector<std::pair<std::string, std::string>>{
-         {"", refused + "the finite-element stiffness source (fem) yet"},
-         {"--set Stiffness/fe_dimension=3", refused + "the finite-element stiffness source (fem) yet"},
          {"--set Stiffness/source=iso6336", refused + "the closed-form stiffness sources yet"},
          {"--set Stiffness/source=hertz-analytic", refused + "the closed-form stiffness sources yet"},
          {"--set Stiffness/source=potential-energy", refused + "the closed-form stiffness sources yet"}})
     expect_refused({"stiffness", helical + " " + set, beta, "", reason});
-  expect_refused({"run", helical, beta, "", refused + "the finite-element stiffness source (fem) yet"});
+  // The FE source takes a helical pair in 3D only (the scene's own dimension).
+  for (const std::string command : {"stiffness", "run"})
+    expect_refused({command, helical + " --set Stiffness/fe_dimension=2", "Stiffness/fe_dimension = 2",
+                    "", "cannot represent a helical pair"});
   // The mesher builds helical 3D bodies (tests/meshing/test_mesh.cc), but not with fewer layers
   // along the face than the twist needs (docs/geometry.md, "Meshes"): it names the key and the
   // count that would do.

@@ -677,3 +677,40 @@ TEST(StiffnessCli, TheLoadLadderIsTheCycleAtEachLoadAndDrivesTheFeForceLaw)
   EXPECT_EQ(c.exit_code, 2) << c.err;
   EXPECT_THAT(c.err, HasSubstr("Stiffness/source = fem"));
 }
+
+TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
+{
+  // Requirement: the FE stage takes a helical pair in 3D (twisted full-gear bodies, inclined
+  // contact lines; docs/theory-tca.md) and writes a table of the helical pair that the dynamics
+  // runs on. Checked on the paper's pair at beta = 15 deg, coarse (level 0, Q1, 8 layers, 5
+  // positions): the table's pair record carries the helix angle; at every position at least two
+  // pairs carry load, because the total contact ratio eps_gamma = 2.04 puts at least
+  // floor(eps_gamma) = 2 contact lines on the field of action at every phase (uncrowned flanks
+  // without modifications: every line in the field touches); and the dynamics' static force is
+  // the transverse one, T1 / r_b1 with r_b1 = z1 m_n cos(alpha_t) / (2 cos(beta)) (the torsional
+  // model along the transverse line of action, docs/dynamics.md), to 1e-9 relative (a division
+  // against the stage's own).
+  const fs::path out = fresh_temp_dir("stiffness_helical");
+  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_helical.prm") +
+                                 " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=8"
+                                 " --set Stiffness/positions_per_cycle=5 --set Stiffness/harmonics=2"
+                                 " --set Output/write_fields=false --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto table = nlohmann::json::parse(slurp(out / "stiffness.json"));
+  EXPECT_DOUBLE_EQ(table.at("pair").at("pinion").at("helix_angle_deg").get<double>(), 15.0);
+  const auto rows = csv_rows(out / "stiffness.csv");
+  ASSERT_EQ(rows.size(), 5u);
+  for (const auto &row : rows)
+    EXPECT_GE(column(row, 6), 2.0) << "pairs in contact: " << row;
+
+  const fs::path dyn = fresh_temp_dir("dynamics_helical");
+  const auto d = run_hertzgear("dynamics " + scene_path("paper_helical.prm") +
+                               " --set Stiffness/source=table --set Stiffness/table_file=" +
+                               (out / "stiffness.json").string() + " --set Dynamics/periods=40 --set Dynamics/transient_periods=20 --out " +
+                               dyn.string());
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const double beta = 15 * M_PI / 180, alpha_t = std::atan(std::tan(20 * M_PI / 180) / std::cos(beta));
+  const double r_b1 = 23 * 3.0 * std::cos(alpha_t) / (2 * std::cos(beta)); // mm
+  const auto   summary = nlohmann::json::parse(slurp(dyn / "summary.json"));
+  EXPECT_NEAR(summary.at("static_force_N").get<double>(), 210e3 / r_b1, 1e-9 * 210e3 / r_b1);
+}

@@ -293,11 +293,12 @@ TEST(FlankSurface, HelicalRemovalInTheTransverseSection)
 }
 
 // Requirement: a helical pair (same helix angle, opposite hands) is accepted by the pair
-// kinematics and the contact stage (mesh cycle), and every stage that handles spur pairs only
-// refuses it with an input error that says helical pairs are not supported by that stage yet and
-// names the helix angle and its field: the finite-element and closed-form stiffness sources, the
-// ISO 6336-2 nominal contact stress (ISO 6336-1's stiffness takes helical pairs).
-TEST(FlankSurface, HelicalPairsAreRefusedByTheSpurOnlyStages)
+// kinematics, the contact stage (mesh cycle) and the 3D finite-element stiffness source (the 2D
+// one refuses it naming its dimension), and every stage that handles spur pairs only refuses it
+// with an input error that says helical pairs are not supported by that stage yet and names the
+// helix angle and its field: the closed-form stiffness sources and the ISO 6336-2 nominal contact
+// stress (ISO 6336-1's stiffness takes helical pairs).
+TEST(FlankSurface, HelicalPairsAreRefusedByTheStagesThatCannotServeThem)
 {
   EXPECT_NO_THROW(GearGeometry(pinion(15 * pi / 180)));
   PairParameters pair         = hertzgear::testing::spur_pair();
@@ -325,8 +326,21 @@ TEST(FlankSurface, HelicalPairsAreRefusedByTheSpurOnlyStages)
   hertzgear::stiffness::StiffnessInput input;
   input.pair      = pair;
   input.torque_Nm = 210;
-  refused([&] { hertzgear::stiffness::find_source("fem").check(input); },
-          "the finite-element stiffness source (fem)");
+  // The FE source takes it in 3D and refuses the plane-strain model, naming its dimension.
+  EXPECT_NO_THROW(hertzgear::stiffness::find_source("fem").check(input));
+  input.fe.dimension = 2;
+  try
+    {
+      hertzgear::stiffness::find_source("fem").check(input);
+      ADD_FAILURE() << "the 2D FE model accepted a helical pair";
+    }
+  catch (const hertzgear::ParameterError &e)
+    {
+      EXPECT_EQ(e.parameter(), "dimension");
+      EXPECT_THAT(e.what(), ::testing::HasSubstr("dimension = 2 cannot represent a helical pair"));
+      EXPECT_THAT(e.what(), ::testing::HasSubstr("{pinion.helix_angle_rad}"));
+    }
+  input.fe.dimension = 3;
   for (const char *source : {"iso6336", "hertz-analytic", "potential-energy"})
     refused([&] { hertzgear::stiffness::find_source(source).check(input); },
             "the closed-form stiffness sources");
