@@ -10,6 +10,7 @@
 #include "app/cmd_dynamics.h"
 #include "app/command.h"
 #include "app/dynamics_setup.h"
+#include "app/meshing_setup.h"
 #include "app/run_directory.h"
 #include "app/scene_keys.h"
 #include "common/errors.h"
@@ -20,6 +21,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 
 namespace hertzgear
@@ -71,6 +73,19 @@ namespace hertzgear
     {
       PhaseTimer::Scope scope(timer, "analysis");
       summary = summary_json(model, result, analyse(model, result), setup.describe());
+      // A helical pair's normal mesh force F / cos(beta_b) has the axial component F tan(beta_b)
+      // (F along the transverse line of action, docs/dynamics.md, "Helical pairs"): the load on
+      // the shafts' thrust bearings, from the same steady window.
+      const double beta_b = make_pair(scene).base_helix_angle_rad();
+      if (beta_b != 0)
+        {
+          const double t = std::tan(beta_b);
+          summary["axial_force"] = {{"mean_N", t * summary["mean_mesh_force_N"].get<double>()},
+                                    {"max_N", t * summary["max_mesh_force_N"].get<double>()},
+                                    {"min_N", t * summary["min_mesh_force_N"].get<double>()},
+                                    {"static_N", t * summary["static_force_N"].get<double>()},
+                                    {"base_helix_angle_deg", beta_b * 180 / M_PI}};
+        }
     }
     progress_line("dynamics",
                   msg("rms DTE ", summary["rms_dte_um"].get<double>(), " um, mean force ",

@@ -91,6 +91,12 @@ namespace hertzgear::meshing
     double      max_flank_modification_error_mm = 0; // mapping check on the flank nodes
     std::vector<std::string> physical_groups;
   };
+  // A helical body's layers along the face must carry its twist: InputError naming
+  // {face_width_layers} and the count needed otherwise (docs/geometry.md, "Meshes"; the mesher
+  // checks it, and the FE stage before any work). Nothing for 2D or spur bodies.
+  void require_layers_for_twist(const GearGeometry &gear, const MeshSettings &settings,
+                                double active_start_radius_mm);
+
   // Its record in mesh_quality.json (units in the keys).
   nlohmann::json mesh_quality_json(const MeshQuality &quality);
 

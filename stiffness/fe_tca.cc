@@ -1072,6 +1072,15 @@ namespace hertzgear::stiffness
                                    input.pair.pinion.helix_angle_rad * 180 / M_PI,
                                    " deg, {pinion.helix_angle_rad}): its contact lines cross the "
                                    "face; use 3"));
+        // Its layers along the face must carry the twist: refused here, before any work, by the
+        // mesher's own rule (each body from the start of its active profile, as it is meshed).
+        if (fe.dimension == 3 && input.pair.pinion.helix_angle_rad != 0)
+          {
+            const meshing::PairKinematics kin(input.pair);
+            const auto                    mesh = fe_mesh_settings(fe);
+            meshing::require_layers_for_twist(kin.pinion(), mesh, kin.point('A').radius_pinion_mm);
+            meshing::require_layers_for_twist(kin.gear(), mesh, kin.point('E').radius_gear_mm);
+          }
         if (!(input.torque_Nm > 0))
           throw ParameterError("torque_Nm", msg(input.torque_Nm, ": the loaded tooth contact "
                                                                  "analysis needs a positive torque"));

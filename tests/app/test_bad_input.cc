@@ -244,6 +244,9 @@ TEST(BadInput, HelicalScenesAreRefusedByTheStagesThatCannotServeThem)
   for (const std::string command : {"stiffness", "run"})
     expect_refused({command, helical + " --set Stiffness/fe_dimension=2", "Stiffness/fe_dimension = 2",
                     "", "cannot represent a helical pair"});
+  // Too few layers along the face for the twist: the FE stage refuses before any work.
+  expect_refused({"stiffness", helical + " --set Mesh/face_width_layers=2", "Mesh/face_width_layers",
+                  "", "cannot carry the helix"});
   // The mesher builds helical 3D bodies (tests/meshing/test_mesh.cc), but not with fewer layers
   // along the face than the twist needs (docs/geometry.md, "Meshes"): it names the key and the
   // count that would do.

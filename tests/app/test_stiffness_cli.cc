@@ -689,7 +689,7 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
   // without modifications: every line in the field touches); and the dynamics' static force is
   // the transverse one, T1 / r_b1 with r_b1 = z1 m_n cos(alpha_t) / (2 cos(beta)) (the torsional
   // model along the transverse line of action, docs/dynamics.md), to 1e-9 relative (a division
-  // against the stage's own).
+  // against the stage's own), with the axial force F tan(beta_b) beside it.
   const fs::path out = fresh_temp_dir("stiffness_helical");
   const auto     r   = run_hertzgear("stiffness " + scene_path("paper_helical.prm") +
                                  " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=8"
@@ -713,4 +713,10 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
   const double r_b1 = 23 * 3.0 * std::cos(alpha_t) / (2 * std::cos(beta)); // mm
   const auto   summary = nlohmann::json::parse(slurp(dyn / "summary.json"));
   EXPECT_NEAR(summary.at("static_force_N").get<double>(), 210e3 / r_b1, 1e-9 * 210e3 / r_b1);
+  // The axial force is the transverse force times tan(beta_b), sin(beta_b) = sin(beta) cos(alpha_n).
+  const double beta_b = std::asin(std::sin(beta) * std::cos(20 * M_PI / 180));
+  const auto  &axial  = summary.at("axial_force");
+  EXPECT_NEAR(axial.at("static_N").get<double>(), 210e3 / r_b1 * std::tan(beta_b), 1e-9 * 210e3 / r_b1);
+  EXPECT_NEAR(axial.at("max_N").get<double>(),
+              summary.at("max_mesh_force_N").get<double>() * std::tan(beta_b), 1e-9 * 210e3 / r_b1);
 }
