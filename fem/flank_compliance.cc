@@ -74,10 +74,16 @@ namespace hertzgear::fem
     else
       {
         HG_REQUIRE_INPUT(settings.n_face >= 2, "flank table: at least 2 face nodes in 3D");
-        // Nodes inset by the patch radius so that each patch lies on the flank.
-        const double z0 = -0.5 * b + settings.patch_radius_mm;
+        // Nodes inset by the patch radius so that each patch lies on the flank, and on a helical
+        // flank also by the reading's axial drift: the inward normal has the axial component
+        // sin(beta_b), so the reading point d below a node lies d sin(beta_b) nearer one face
+        // end (0 for a spur flank, whose nodes are unchanged).
+        const double cos_bb = flank.cos_base_helix();
+        const double inset  = settings.patch_radius_mm +
+                             settings.reference_depth_mm * std::sqrt(std::max(0.0, 1.0 - cos_bb * cos_bb));
+        const double z0     = -0.5 * b + inset;
         for (unsigned int i = 0; i < settings.n_face; ++i)
-          face_nodes.push_back(z0 + (b - 2 * settings.patch_radius_mm) * i / (settings.n_face - 1.0));
+          face_nodes.push_back(z0 + (b - 2 * inset) * i / (settings.n_face - 1.0));
       }
     HG_REQUIRE_INPUT(!settings.split_half_space || dim == 3,
                      "flank table: the half-space split is a 3D option");
