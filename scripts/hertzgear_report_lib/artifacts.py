@@ -845,19 +845,29 @@ class LoadMap:
                 return crowning
         return next(iter(series), None)
 
-    def cells_of(self, case):
+    def cells_of(self, case, position=None):
         """(z, roll, pressure, roll height) of the loaded cells of `case` (−1: the scene's own
-        cycle), or None when contact_pattern.csv has none."""
+        cycle), of one mesh position when `position` is given, or None when
+        contact_pattern.csv has none."""
         t = self.cells
         need = ("case", "position", "pair", "pinion_roll_mm", "z_mm", "pressure_MPa")
         if t is None or not all(t.numeric(k) for k in need):
             return None
         rows = (t["case"] == case) & np.isfinite(t["pressure_MPa"])
+        if position is not None:
+            rows &= t["position"] == position
         if not rows.any():
             return None
         roll = t["pinion_roll_mm"][rows]
         groups = t["position"][rows] * 1000 + t["pair"][rows]
         return t["z_mm"][rows], roll, t["pressure_MPa"][rows], cell_heights(roll, groups)
+
+    def positions_of(self, case):
+        """The mesh positions of `case` that have loaded cells, in order."""
+        t = self.cells
+        if t is None or not t.numeric("case") or not t.numeric("position"):
+            return []
+        return [int(p) for p in np.unique(t["position"][t["case"] == case])]
 
     def cell_width_mm(self):
         """The face-width extent of a contact-grid cell: the spacing of its z values within one

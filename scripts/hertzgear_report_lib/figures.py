@@ -495,19 +495,24 @@ def pattern_layout(n):
                         sharex=True, sharey=True, squeeze=False)
 
 
-def pressure_norm(lmap, cases):
-    peaks = [np.max(c[2]) for c in (lmap.cells_of(k) for k in cases) if c is not None]
+def panel_cells(lmap, key):
+    """The cells of a panel: key is a case, or (case, position) for one mesh position."""
+    return lmap.cells_of(*key) if isinstance(key, tuple) else lmap.cells_of(key)
+
+
+def pressure_norm(lmap, keys):
+    peaks = [np.max(c[2]) for c in (panel_cells(lmap, k) for k in keys) if c is not None]
     return Normalize(0.0, max(peaks) if peaks else 1.0)
 
 
-def pattern_figure(sec, name, lmap, panels, caption):
-    """Contact patterns of the cases of `panels` [(case, title)] in small multiples with one
-    colour bar."""
+def pattern_figure(sec, name, lmap, panels, caption, pattern_caption=None):
+    """Contact patterns of `panels` [(case or (case, position), title)] in small multiples with
+    one colour bar."""
     fig, axes = pattern_layout(len(panels))
-    norm = pressure_norm(lmap, [case for case, _ in panels])
-    for ax, (case, title) in zip(axes.ravel(), panels):
+    norm = pressure_norm(lmap, [key for key, _ in panels])
+    for ax, (key, title) in zip(axes.ravel(), panels):
         ax.grid(False)
-        cells = lmap.cells_of(case)
+        cells = panel_cells(lmap, key)
         draw_cells(ax, lmap, cells, norm)
         flank_frame(ax, lmap, cells)
         peak = ", max %.0f MPa" % np.max(cells[2]) if cells is not None else ""
@@ -521,7 +526,7 @@ def pattern_figure(sec, name, lmap, panels, caption):
     fig.colorbar(ScalarMappable(norm=norm, cmap=PATTERN_CMAP), ax=axes, shrink=0.85,
                  label="contact pressure (MPa)")
     pattern_legend(fig)
-    publish(sec, name, fig, caption + PATTERN_CAPTION)
+    publish(sec, name, fig, caption + (PATTERN_CAPTION if pattern_caption is None else pattern_caption))
 
 
 PATTERN_CAPTION = (
@@ -581,6 +586,27 @@ def contact_pattern_scene(sec, lmap):
         return
     pattern_figure(sec, "contact_pattern.png", lmap, [(-1, "scene's own mesh cycle")],
                    "Contact pattern on the pinion flank over the scene's own mesh cycle.")
+
+
+CONTACT_LINES_CAPTION = (
+    " Each panel is the pinion flank developed flat at one mesh position: the face width z "
+    "across (solid blue lines at the face ends ±b/2) and the roll distance up, from the root to "
+    "the tip (dashed green lines at the active profile's limits). Coloured cells are the loaded "
+    "cells of the FE contact grid (contact_pattern.csv) at that position, one band per tooth "
+    "pair in contact: straight across the face for a spur pair, inclined by the base helix "
+    "angle for a helical pair, moving up the flank from root to tip as the pair rolls through "
+    "its mesh; all panels share the colour scale.")
+
+
+def contact_lines_over_cycle(sec, lmap):
+    positions = lmap.positions_of(-1)
+    if len(positions) < 2:
+        return
+    panels = [((-1, p), "position %d of %d" % (p + 1, len(positions))) for p in pick(positions)]
+    pattern_figure(sec, "contact_lines.png", lmap, panels,
+                   "The contact lines on the pinion flank over the scene's own mesh cycle, at "
+                   "%d of its %d positions." % (len(panels), len(positions)),
+                   CONTACT_LINES_CAPTION)
 
 
 # --------------------------------------------------------------------------------------------

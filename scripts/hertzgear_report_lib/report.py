@@ -75,6 +75,8 @@ class Report:
                          "is left out.")
             else:
                 self.attempt(sec, "contact pattern", figures.contact_pattern_scene, lmap)
+                self.attempt(sec, "contact lines over the cycle", figures.contact_lines_over_cycle,
+                             lmap)
             return
         self.attempt(sec, "STE-against-torque figure", figures.ste_against_torque, lmap)
         self.attempt(sec, "misalignment figure", figures.pressure_centre_against_misalignment,
@@ -83,6 +85,7 @@ class Report:
                      figures.contact_patterns_over_torque, lmap)
         self.attempt(sec, "contact patterns at several misalignments",
                      figures.contact_patterns_over_misalignment, lmap)
+        self.attempt(sec, "contact lines over the cycle", figures.contact_lines_over_cycle, lmap)
         sec.add(map_table(lmap.cases, lmap.n_positions))
 
     def dynamics_section(self):

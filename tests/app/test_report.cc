@@ -113,7 +113,7 @@ TEST(Report, NestedRunGivesEveryFigure)
         "phase_portrait.png", "force_penetration.png", "spectrum.png", "sweep_rms.png",
         "bifurcation.png", "accuracy_1.png", "ste_against_torque.png",
         "misalignment_pressure_centre.png", "contact_pattern_torque.png",
-        "contact_pattern_misalignment.png"})
+        "contact_pattern_misalignment.png", "contact_lines.png"})
     EXPECT_EQ(on_page.count(expected), 1u) << expected << " missing from the page";
   // The load and design map is tabulated per case.
   EXPECT_THAT(html, HasSubstr("Load and design map: 14 cases"));
