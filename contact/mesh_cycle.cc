@@ -89,6 +89,10 @@ namespace hertzgear::contact
     std::vector<int>        cell_block;
     std::vector<FlankPoint> pinion_point, gear_point;
     std::vector<double>     u_mm, z_mm;
+    // Width of each cell across the profile [mm]: du, or less for a cell cut at a flank end
+    // (cut_at_flank_ends).
+    std::vector<double>     cell_du;
+    bool                    cut_at_flank_ends = false;
     std::vector<bool>       on_flank;
     Eigen::VectorXd         gap, area;
     Eigen::MatrixXd         compliance; // per unit pressure [mm/MPa]
@@ -248,35 +252,108 @@ namespace hertzgear::contact
     // The cell's area on the flank: du dz / cos(beta_b), the helicoid's area element in (U, z)
     // (FlankSurface::developed_offset_mm; exactly du dz for a spur flank).
     g.area.setConstant(n, g.du * g.dz / cos_bb);
+    // Where the band follows the load (face_band_follows_load), a cell that a flank end crosses
+    // (a tip, or the form circle, of either flank) is cut at it: the cell keeps its part on the
+    // flanks, its point moves to that part's middle and its area shrinks with it. The cells
+    // scale with the load while the flank ends stay put, so a cell kept or dropped whole by its
+    // centre would enter and leave the grid in steps as the load grows (the contact of a pair
+    // at a tip: docs/theory-tca.md, "Face extent of the grid"); a cut cell changes with the load
+    // continuously. Elsewhere a cell is on the flanks where its centre is.
+    g.cut_at_flank_ends = face_band_follows_load();
     for (unsigned int b = 0; b < g.pairs.size(); ++b)
       for (unsigned int iz = 0; iz < g.n_z; ++iz)
-        for (unsigned int iu = 0; iu < g.n_u; ++iu)
-          {
-            const double u  = -w + (iu + 0.5) * g.du; // surface distance across the profile
-            const double z  = column_z(iz);
-            const double sc = g.column_roll_mm[b * g.n_z + iz];
-            // involute arc length from the base circle is s^2 / (2 r_b): invert it exactly
+        {
+          const double z  = column_z(iz);
+          const double sc = g.column_roll_mm[b * g.n_z + iz];
+          // Pinion and gear roll of the flank point at surface distance u across the profile
+          // (the involute arc length from the base circle is s^2 / (2 r_b): inverted exactly),
+          // and whether both flanks are there.
+          const auto at = [&](const double u, double &s, double &sg) {
             const double s2 = sc * sc + 2.0 * r_b1 * u;
-            const double s  = std::sqrt(std::max(s2, 0.0));
-            const double sg = kinematics.gear_roll_at_mm(g.pairs[b], mesh_phase, s, z);
-            const bool   on_flanks = g.column_in_path[b * g.n_z + iz] && s2 > 0 &&
-                                   s >= pinion_roll_min && s <= pinion_roll_max &&
-                                   sg >= gear_roll_min && sg <= gear_roll_max;
-            const unsigned int k = b * n_block + iu + g.n_u * iz;
-            g.cell_block.push_back(static_cast<int>(b));
-            g.u_mm.push_back(u);
-            g.z_mm.push_back(z);
-            g.pinion_point.push_back({g.pairs[b], s, z});
-            g.gear_point.push_back({-g.pairs[b], sg, z});
-            g.on_flank.push_back(on_flanks);
-            // Normal to the flanks (PairKinematics::unloaded_gap_mm), as the compliances.
-            g.gap(k) = on_flanks ? kinematics.unloaded_gap_mm(g.pairs[b], mesh_phase, s, z) :
-                                   no_flank_gap_mm;
-          }
+            s               = std::sqrt(std::max(s2, 0.0));
+            sg              = kinematics.gear_roll_at_mm(g.pairs[b], mesh_phase, s, z);
+            return g.column_in_path[b * g.n_z + iz] && s2 > 0 && s >= pinion_roll_min &&
+                   s <= pinion_roll_max && sg >= gear_roll_min && sg <= gear_roll_max;
+          };
+          // The flanks' common extent along u is one interval; its end between a (on) and c
+          // (off) by bisection to round-off.
+          const auto flank_end = [&](double a, double c) {
+            double ds, dsg;
+            for (int it = 0; it < 200 && std::abs(c - a) > 1e-15 * (std::abs(a) + std::abs(c) + g.du); ++it)
+              {
+                const double m = 0.5 * (a + c);
+                (at(m, ds, dsg) ? a : c) = m;
+              }
+            return a;
+          };
+          for (unsigned int iu = 0; iu < g.n_u; ++iu)
+            {
+              double u = -w + (iu + 0.5) * g.du; // surface distance across the profile
+              double s = 0, sg = 0, width = g.du;
+              bool   on_flanks = at(u, s, sg);
+              if (g.cut_at_flank_ends)
+                {
+                  // A cell with one end on the flanks and one off is cut at the flanks' end.
+                  double       lo = -w + iu * g.du, hi = lo + g.du, ds, dsg;
+                  const bool   on_lo = at(lo, ds, dsg), on_hi = at(hi, ds, dsg);
+                  if (on_lo != on_hi)
+                    {
+                      const double edge = on_lo ? flank_end(lo, hi) : flank_end(hi, lo);
+                      if (on_lo)
+                        hi = edge;
+                      else
+                        lo = edge;
+                      width     = hi - lo;
+                      u         = 0.5 * (lo + hi);
+                      on_flanks = width > 1e-9 * g.du && at(u, s, sg);
+                      if (on_flanks)
+                        g.area(b * n_block + iu + g.n_u * iz) = width * g.dz / cos_bb;
+                      else
+                        width = g.du;
+                    }
+                  else if (!on_lo)
+                    on_flanks = false; // no part of the cell on both flanks
+                }
+              const unsigned int k = b * n_block + iu + g.n_u * iz;
+              g.cell_block.push_back(static_cast<int>(b));
+              g.u_mm.push_back(u);
+              g.z_mm.push_back(z);
+              g.cell_du.push_back(width);
+              g.pinion_point.push_back({g.pairs[b], s, z});
+              g.gear_point.push_back({-g.pairs[b], sg, z});
+              g.on_flank.push_back(on_flanks);
+              // Normal to the flanks (PairKinematics::unloaded_gap_mm), as the compliances.
+              g.gap(k) = on_flanks ? kinematics.unloaded_gap_mm(g.pairs[b], mesh_phase, s, z) :
+                                     no_flank_gap_mm;
+            }
+        }
 
     // Local part: per pair, both bodies, surface minus reference depth (the FE counts the rest).
     const double depth = compliances[0]->reference_depth_mm();
     g.local            = Eigen::MatrixXd::Zero(n, n);
+    const meshing::FlankSurface flank = pinion.flank();
+    const bool same_material = materials[0].youngs_modulus_MPa == materials[1].youngs_modulus_MPa &&
+                               materials[0].poisson_ratio == materials[1].poisson_ratio;
+    // The local displacement at cell i per unit pressure on cell j (same pair), a rectangle of
+    // the flank's area width_j x dz / cos(beta_b) about j's point: offsets in the developed
+    // pinion flank (FlankSurface::developed_offset_mm; (du, dz) on a spur flank). A centred
+    // rectangle's field is even in the offset, so entry (j, i) differs from (i, j) only by j's
+    // and i's widths.
+    const auto local_entry = [&](const unsigned int ki, const unsigned int kj) {
+      const Eigen::Vector2d d =
+        slope == 0 ? Eigen::Vector2d(g.u_mm[ki] - g.u_mm[kj], g.z_mm[ki] - g.z_mm[kj]) :
+                     flank.developed_offset_mm(g.pinion_point[ki], g.pinion_point[kj]);
+      const double hu = 0.5 * g.cell_du[kj], hz = 0.5 * g.dz / cos_bb;
+      double       c  = 0;
+      for (unsigned int body = 0; body < (same_material ? 1u : 2u); ++body)
+        {
+          const double E  = materials[body].youngs_modulus_MPa;
+          const double nu = materials[body].poisson_ratio;
+          c += half_space::rectangle_displacement_at_depth(d.x(), d.y(), 0.0, hu, hz, 1.0, E, nu) -
+               half_space::rectangle_displacement_at_depth(d.x(), d.y(), depth, hu, hz, 1.0, E, nu);
+        }
+      return same_material ? 2 * c : c;
+    };
     if (slope == 0)
       {
         // Spur: the cells of every pair form one regular grid in (u, z), the development of the
@@ -292,38 +369,32 @@ namespace hertzgear::contact
           }
         for (unsigned int b = 0; b < g.pairs.size(); ++b)
           g.local.block(b * n_block, b * n_block, n_block, n_block) = block;
+        // Cells cut at a flank end: their rows and columns from their own rectangles.
+        for (unsigned int k = 0; k < n; ++k)
+          if (g.cell_du[k] != g.du)
+            {
+              const unsigned int first = g.cell_block[k] * n_block;
+              for (unsigned int i = first; i < first + n_block; ++i)
+                {
+                  g.local(i, k) = local_entry(i, k);
+                  g.local(k, i) = local_entry(k, i);
+                }
+            }
       }
     else
       {
         // Helical: the columns are shifted against each other along the profile (each on its
         // inclined contact line), so the offsets between cells are taken in the developed
-        // pinion flank (FlankSurface::developed_offset_mm), each cell a rectangle of the flank's
-        // area du x dz / cos(beta_b) there (a development of the cell to first order).
-        // The offset of j from i is minus that of i from j and a centred rectangle's field is
-        // symmetric, so the block is symmetric: each pair of cells is evaluated once, and once
-        // for both bodies when they are of one material.
-        const meshing::FlankSurface flank = pinion.flank();
-        const double                hu = 0.5 * g.du, hz = 0.5 * g.dz / cos_bb;
-        const bool same_material = materials[0].youngs_modulus_MPa == materials[1].youngs_modulus_MPa &&
-                                   materials[0].poisson_ratio == materials[1].poisson_ratio;
+        // pinion flank, each cell a rectangle there (a development of the cell to first order).
+        // The block is symmetric where the two cells are equally wide: each such pair of cells
+        // is evaluated once, and once for both bodies when they are of one material.
         for (unsigned int b = 0; b < g.pairs.size(); ++b)
           for (unsigned int i = 0; i < n_block; ++i)
             for (unsigned int j = i; j < n_block; ++j)
               {
-                const unsigned int    ki = b * n_block + i, kj = b * n_block + j;
-                const Eigen::Vector2d d  = flank.developed_offset_mm(g.pinion_point[ki], g.pinion_point[kj]);
-                double                c  = 0;
-                for (unsigned int body = 0; body < (same_material ? 1u : 2u); ++body)
-                  {
-                    const double E  = materials[body].youngs_modulus_MPa;
-                    const double nu = materials[body].poisson_ratio;
-                    c += half_space::rectangle_displacement_at_depth(d.x(), d.y(), 0.0, hu, hz, 1.0, E, nu) -
-                         half_space::rectangle_displacement_at_depth(d.x(), d.y(), depth, hu, hz, 1.0, E, nu);
-                  }
-                if (same_material)
-                  c *= 2;
-                g.local(ki, kj) = c;
-                g.local(kj, ki) = c;
+                const unsigned int ki = b * n_block + i, kj = b * n_block + j;
+                g.local(ki, kj)       = local_entry(ki, kj);
+                g.local(kj, ki) = g.cell_du[ki] == g.cell_du[kj] ? g.local(ki, kj) : local_entry(kj, ki);
               }
       }
 
@@ -372,7 +443,22 @@ namespace hertzgear::contact
         if (curvature < 0)
           centre -= (fm - fp) * (fm - fp) / (8 * curvature);
       };
-      correct(iu > 0 && iu + 1 < g.n_u, peak - 1, peak + 1);
+      // Along u a neighbour may be a cell cut at a flank end, whose point is nearer: the
+      // parabola through the three points at their own abscissae.
+      const auto correct_u = [&](const unsigned int minus, const unsigned int plus) {
+        if (g.cell_du[minus] == g.cell_du[peak] && g.cell_du[plus] == g.cell_du[peak])
+          return correct(true, minus, plus);
+        if (pressure(minus) <= 0 || pressure(plus) <= 0)
+          return;
+        const double xm = g.u_mm[minus] - g.u_mm[peak], xp = g.u_mm[plus] - g.u_mm[peak];
+        const double dm = (value(minus) - f0) / xm, dp = (value(plus) - f0) / xp;
+        const double c2 = (dp - dm) / (xp - xm); // f = f0 + c1 x + c2 x^2
+        const double c1 = dm - c2 * xm;
+        if (c2 < 0)
+          centre -= c1 * c1 / (4 * c2);
+      };
+      if (iu > 0 && iu + 1 < g.n_u)
+        correct_u(peak - 1, peak + 1);
       correct(iz > 0 && iz + 1 < g.n_z, peak - g.n_u, peak + g.n_u);
       return centre;
     }
@@ -509,7 +595,7 @@ namespace hertzgear::contact
             const unsigned int iz     = (peak - b * n_block) / g.n_u;
             double             column = 0;
             for (unsigned int iu = 0; iu < g.n_u; ++iu)
-              column += sol.pressure(b * n_block + iu + g.n_u * iz) * g.du;
+              column += sol.pressure(b * n_block + iu + g.n_u * iz) * g.cell_du[b * n_block + iu + g.n_u * iz];
             ps.contact_a_mm = 2.0 * column / (M_PI * ps.peak_pressure_MPa);
             // Along the face: the loaded extent; for an ellipse inside the face, from
             // F = 2/3 pi a b p0.

@@ -25,24 +25,6 @@ namespace
 {
   constexpr double tolerance = 1e-6;
 
-  void expect_series_close(const nlohmann::json &a, const nlohmann::json &b, const std::string &name)
-  {
-    const double scale = std::abs(b.at("mean").get<double>());
-    EXPECT_NEAR(a.at("mean").get<double>(), b.at("mean").get<double>(), tolerance * scale) << name;
-    const auto aa = a.at("amplitudes").get<std::vector<double>>();
-    const auto ba = b.at("amplitudes").get<std::vector<double>>();
-    const auto ap = a.at("phases_rad").get<std::vector<double>>();
-    const auto bp = b.at("phases_rad").get<std::vector<double>>();
-    ASSERT_EQ(aa.size(), ba.size()) << name;
-    for (std::size_t j = 0; j < aa.size(); ++j)
-      {
-        EXPECT_NEAR(aa[j] * std::cos(ap[j]), ba[j] * std::cos(bp[j]), tolerance * scale)
-          << name << " harmonic " << j + 1;
-        EXPECT_NEAR(aa[j] * std::sin(ap[j]), ba[j] * std::sin(bp[j]), tolerance * scale)
-          << name << " harmonic " << j + 1;
-      }
-  }
-
   // The FE settings and sizes of a table, without the wall times that differ from run to run.
   nlohmann::json fe_settings(const nlohmann::json &table)
   {
@@ -70,28 +52,7 @@ namespace
 
     EXPECT_EQ(fresh.at("hertz_exponent"), shipped.at("hertz_exponent"));
     EXPECT_EQ(fe_settings(fresh), fe_settings(shipped)) << "the FE settings of the shipped table";
-    for (const std::string s : {"k_hertz_N_per_m_pow_n", "k_rest_N_per_m", "k_total_N_per_m"})
-      expect_series_close(fresh.at(s), shipped.at(s), s);
-    for (const std::string s : {"k_total_N_per_m", "k_hertz_N_per_m_pow_n", "k_rest_N_per_m", "ste_m"})
-      {
-        const auto a = fresh.at("samples").at(s).get<std::vector<double>>();
-        const auto b = shipped.at("samples").at(s).get<std::vector<double>>();
-        ASSERT_EQ(a.size(), b.size()) << s;
-        for (std::size_t i = 0; i < a.size(); ++i)
-          EXPECT_NEAR(a[i], b[i], tolerance * std::abs(b[i])) << s << " sample " << i;
-      }
-    // The load ladder of the FE force law, rung by rung.
-    const auto &fl = fresh.at("load_ladder"), &sl = shipped.at("load_ladder");
-    EXPECT_EQ(fl.at("load_N"), sl.at("load_N"));
-    for (const std::string s : {"approach_m", "hertz_approach_m"})
-      {
-        const auto a = fl.at(s).get<std::vector<std::vector<double>>>();
-        const auto b = sl.at(s).get<std::vector<std::vector<double>>>();
-        ASSERT_EQ(a.size(), b.size()) << s;
-        for (std::size_t j = 0; j < a.size(); ++j)
-          for (std::size_t i = 0; i < a[j].size(); ++i)
-            EXPECT_NEAR(a[j][i], b[j][i], tolerance * std::abs(b[j][i])) << s << " rung " << j << " position " << i;
-      }
+    expect_tables_close(fresh, shipped, tolerance);
   }
 } // namespace
 
@@ -121,15 +82,14 @@ TEST(ShippedTables, CrownedFeLawIsTheFeAtItsRungs)
   expect_static_consistency("paper_crowned.prm", "", false);
 }
 
-// The same on the contact grid whose face extent follows the load
-// (Stiffness/contact_grid_face_extent = load, docs/theory-tca.md, "Face extent of the grid"):
-// at the rungs to round-off; between them measured and printed, not required: measured 1.20 %
-// in the approach and 5.6 % in the tangent, both at position 5 (458 N), where the leaving pair
-// touches at the pinion tip and the profile band's cells cross the tip edge one by one. The
-// coarse level meets the bounds on this grid
-// (StiffnessCli.TheCrownedFeLawBetweenItsRungsIsTheFeAtThatLoadOnALoadFaceBand). Two FE runs at
-// the shipped level, about 8 to 16 minutes.
+// Requirement: the same at the shipped level on the contact grid whose face extent follows the
+// load (Stiffness/contact_grid_face_extent = load, docs/theory-tca.md, "Face extent of the
+// grid"), and between the rungs as well (expect_static_consistency (2), (3)): within
+// 0.5 % of the approach and 1 % of the tangent. Measured 0.15 % (204.8 N, position 8) and 0.94 %
+// (15 329 N, position 3); at position 5, whose leaving pair touches at the pinion tip at every
+// load, 0.050 % and 0.54 % with the cells cut at the flank ends (1.20 % and 5.6 % with cells kept
+// or dropped whole by their centres). Two FE runs at the shipped level, about 8 minutes.
 TEST(ShippedTables, CrownedFeLawOnALoadFaceBandIsTheFeAtItsRungs)
 {
-  expect_static_consistency("paper_crowned.prm", " --set Stiffness/contact_grid_face_extent=load", false);
+  expect_static_consistency("paper_crowned.prm", " --set Stiffness/contact_grid_face_extent=load", true);
 }

@@ -6,6 +6,7 @@
 #include "tests/support/run_command.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -51,6 +52,50 @@ namespace hertzgear::testing
     for (int k = 0; k <= index; ++k)
       std::getline(ss, cell, ',');
     return std::stod(cell);
+  }
+
+  // Two stiffness tables (stiffness.json) agree within `tolerance` relative: every Fourier
+  // series (its mean, and each harmonic as the complex number a e^(i phi) against the series'
+  // mean, so that the phase of a negligible harmonic does not count), every sampled series and
+  // every rung of the FE force law's load ladder (each value against itself).
+  inline void expect_tables_close(const nlohmann::json &fresh, const nlohmann::json &reference,
+                                  const double tolerance)
+  {
+    for (const std::string s : {"k_total_N_per_m", "k_hertz_N_per_m_pow_n", "k_rest_N_per_m", "ste_m"})
+      {
+        const auto  &a = fresh.at(s), &b = reference.at(s);
+        const double scale = std::abs(b.at("mean").get<double>());
+        EXPECT_NEAR(a.at("mean").get<double>(), b.at("mean").get<double>(), tolerance * scale) << s;
+        const auto aa = a.at("amplitudes").get<std::vector<double>>();
+        const auto ba = b.at("amplitudes").get<std::vector<double>>();
+        const auto ap = a.at("phases_rad").get<std::vector<double>>();
+        const auto bp = b.at("phases_rad").get<std::vector<double>>();
+        ASSERT_EQ(aa.size(), ba.size()) << s;
+        for (std::size_t j = 0; j < aa.size(); ++j)
+          {
+            EXPECT_NEAR(aa[j] * std::cos(ap[j]), ba[j] * std::cos(bp[j]), tolerance * scale) << s << " harmonic " << j + 1;
+            EXPECT_NEAR(aa[j] * std::sin(ap[j]), ba[j] * std::sin(bp[j]), tolerance * scale) << s << " harmonic " << j + 1;
+          }
+        const auto as = fresh.at("samples").at(s).get<std::vector<double>>();
+        const auto bs = reference.at("samples").at(s).get<std::vector<double>>();
+        ASSERT_EQ(as.size(), bs.size()) << s;
+        for (std::size_t i = 0; i < as.size(); ++i)
+          EXPECT_NEAR(as[i], bs[i], tolerance * std::abs(bs[i])) << s << " sample " << i;
+      }
+    const auto &fl = fresh.at("load_ladder"), &rl = reference.at("load_ladder");
+    EXPECT_EQ(fl.at("load_N"), rl.at("load_N"));
+    for (const std::string s : {"approach_m", "hertz_approach_m"})
+      {
+        const auto a = fl.at(s).get<std::vector<std::vector<double>>>();
+        const auto b = rl.at(s).get<std::vector<std::vector<double>>>();
+        ASSERT_EQ(a.size(), b.size()) << s;
+        for (std::size_t j = 0; j < a.size(); ++j)
+          {
+            ASSERT_EQ(a[j].size(), b[j].size()) << s << " rung " << j;
+            for (std::size_t i = 0; i < a[j].size(); ++i)
+              EXPECT_NEAR(a[j][i], b[j][i], tolerance * std::abs(b[j][i])) << s << " rung " << j << " position " << i;
+          }
+      }
   }
 
   // The compression a >= 0 of one member of `law` that carries the force F at `phase`, and the
