@@ -366,37 +366,60 @@ namespace hertzgear::meshing
     --n_live_meshers;
   }
 
+  namespace
+  {
+    // The twist check's quantities (require_layers_for_twist).
+    struct TwistCheck
+    {
+      double layers = 0, d_psi = 0, h = 0, twist_sag = 0, section_sag = 0, needed = 0;
+    };
+    TwistCheck twist_check(const GearGeometry &gear, const MeshSettings &settings,
+                           const double active_start_radius_mm)
+    {
+      // A helical body is the straight extrusion with every node turned by its section angle
+      // psi(z): its layers are straight between the section planes, chords of the helices the
+      // flank points follow. Their chord error, r Dpsi^2 / 8 at radius r for the twist Dpsi of
+      // one layer, must stay within the chord error the section's own straight element edges
+      // make on the active involute where it is most curved, h^2 / (8 rho) with h the band
+      // element size and rho the involute's radius of curvature (its roll distance) at the start
+      // of the active profile: the twist then adds no coarser geometry than the section already
+      // has. Checked at the tip circle, where the helix's chord error is largest.
+      TwistCheck         c;
+      const FlankSurface flank = gear.flank();
+      c.layers = settings.face_width_layers * std::ldexp(1.0, settings.refinement_level);
+      c.d_psi  = std::abs(flank.section_angle_rad(gear.face_width_mm() / c.layers));
+      c.h      = settings.band_element_size_mm(gear.module_mm());
+      const double r_b = gear.base_radius_mm();
+      const double rho = std::sqrt(std::max(active_start_radius_mm * active_start_radius_mm - r_b * r_b, 0.0));
+      c.twist_sag   = gear.tip_radius_mm() * c.d_psi * c.d_psi / 8.0;
+      c.section_sag = c.h * c.h / (8.0 * std::max(rho, 1e-3 * r_b));
+      c.needed      = std::ceil(settings.face_width_layers * std::sqrt(c.twist_sag / c.section_sag) - 1e-9);
+      return c;
+    }
+  } // namespace
+
+  unsigned int layers_needed_for_twist(const GearGeometry &gear, const MeshSettings &settings,
+                                       const double active_start_radius_mm)
+  {
+    if (settings.dimension != 3 || gear.helix_angle_rad() == 0)
+      return 1;
+    return static_cast<unsigned int>(std::max(1.0, twist_check(gear, settings, active_start_radius_mm).needed));
+  }
+
   void require_layers_for_twist(const GearGeometry &gear, const MeshSettings &settings,
                                 const double active_start_radius_mm)
   {
-    // A helical body is the straight extrusion with every node turned by its section angle
-    // psi(z): its layers are straight between the section planes, chords of the helices the
-    // flank points follow. Their chord error, r Dpsi^2 / 8 at radius r for the twist Dpsi of one
-    // layer, must stay within the chord error the section's own straight element edges make on
-    // the active involute where it is most curved, h^2 / (8 rho) with h the band element size and
-    // rho the involute's radius of curvature (its roll distance) at the start of the active
-    // profile: the twist then adds no coarser geometry than the section already has. Checked at
-    // the tip circle, where the helix's chord error is largest.
     if (settings.dimension != 3 || gear.helix_angle_rad() == 0)
       return;
-    const FlankSurface flank  = gear.flank();
-    const double       layers = settings.face_width_layers * std::ldexp(1.0, settings.refinement_level);
-    const double       d_psi  = std::abs(flank.section_angle_rad(gear.face_width_mm() / layers));
-    const double       h      = settings.band_element_size_mm(gear.module_mm());
-    const double       r_b    = gear.base_radius_mm();
-    const double rho = std::sqrt(std::max(active_start_radius_mm * active_start_radius_mm - r_b * r_b, 0.0));
-    const double r_a        = gear.tip_radius_mm();
-    const double twist_sag  = r_a * d_psi * d_psi / 8.0;
-    const double section_sag = h * h / (8.0 * std::max(rho, 1e-3 * r_b));
-    const double needed = std::ceil(settings.face_width_layers * std::sqrt(twist_sag / section_sag) - 1e-9);
-    HG_REQUIRE_INPUT(twist_sag <= section_sag, gear.parameters().name, ": ", layers,
+    const TwistCheck c = twist_check(gear, settings, active_start_radius_mm);
+    HG_REQUIRE_INPUT(c.twist_sag <= c.section_sag, gear.parameters().name, ": ", c.layers,
                      " hexahedral layers ({face_width_layers} = ", settings.face_width_layers,
                      " at refinement level ", settings.refinement_level, ") over the face width of ",
-                     gear.face_width_mm(), " mm cannot carry the helix: a layer turns the section by ", d_psi,
-                     " rad, its chord departs ", 1e3 * twist_sag,
+                     gear.face_width_mm(), " mm cannot carry the helix: a layer turns the section by ", c.d_psi,
+                     " rad, its chord departs ", 1e3 * c.twist_sag,
                      " um from the helicoid at the tip circle, more than the section's own "
-                     "flank chords (", 1e3 * section_sag, " um at band elements of ", h,
-                     " mm); set {face_width_layers} >= ", needed, " (",
+                     "flank chords (", 1e3 * c.section_sag, " um at band elements of ", c.h,
+                     " mm); set {face_width_layers} >= ", c.needed, " (",
                      field(gear.parameters(), "helix_angle_rad"), ", ",
                      field(gear.parameters(), "face_width_mm"), ")");
   }

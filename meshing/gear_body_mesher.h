@@ -96,6 +96,9 @@ namespace hertzgear::meshing
   // checks it, and the FE stage before any work). Nothing for 2D or spur bodies.
   void require_layers_for_twist(const GearGeometry &gear, const MeshSettings &settings,
                                 double active_start_radius_mm);
+  // The {face_width_layers} that rule needs (1 for 2D or spur bodies).
+  unsigned int layers_needed_for_twist(const GearGeometry &gear, const MeshSettings &settings,
+                                       double active_start_radius_mm);
 
   // Its record in mesh_quality.json (units in the keys).
   nlohmann::json mesh_quality_json(const MeshQuality &quality);

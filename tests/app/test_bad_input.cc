@@ -247,6 +247,12 @@ TEST(BadInput, HelicalScenesAreRefusedByTheStagesThatCannotServeThem)
   // Too few layers along the face for the twist: the FE stage refuses before any work.
   expect_refused({"stiffness", helical + " --set Mesh/face_width_layers=2", "Mesh/face_width_layers",
                   "", "cannot carry the helix"});
+  // The count it names carries both bodies: at 32.5 deg with 16 layers the pinion needs 18 and the
+  // gear 20, and the refusal names the gear's 20 (not a count that the next run refuses again).
+  expect_refused({"stiffness",
+                  helical + " --set 'Gear pair/Pinion/helix_angle_deg=32.5' --set 'Gear pair/Gear/helix_angle_deg=32.5'"
+                            " --set Mesh/face_width_layers=16",
+                  "Mesh/face_width_layers", "", "set Mesh/face_width_layers >= 20"});
   // The mesher builds helical 3D bodies (tests/meshing/test_mesh.cc), but not with fewer layers
   // along the face than the twist needs (docs/geometry.md, "Meshes"): it names the key and the
   // count that would do.
