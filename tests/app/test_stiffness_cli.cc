@@ -688,11 +688,15 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
   // without modifications: every line in the field touches); and the dynamics' static force is
   // the transverse one, T1 / r_b1 with r_b1 = z1 m_n cos(alpha_t) / (2 cos(beta)) (the torsional
   // model along the transverse line of action, docs/dynamics.md), to 1e-9 relative (a division
-  // against the stage's own), with the axial force F tan(beta_b) beside it.
+  // against the stage's own), with the axial force F tan(beta_b) beside it. The torque map and
+  // the FE force law's load ladder run on the same bodies as for a spur pair: two map cases of
+  // 5 positions each, a ladder whose approach grows with the load at every position, and the
+  // dynamics on the FE law (Effects/mesh_force_law = fe-map) with the same static force.
   const fs::path out = fresh_temp_dir("stiffness_helical");
   const auto     r   = run_hertzgear("stiffness " + scene_path("paper_helical.prm") +
                                  " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=8"
                                  " --set Stiffness/positions_per_cycle=5 --set Stiffness/harmonics=2"
+                                 " --set Effects/mesh_force_law=fe-map --set Stiffness/Map/torque_percent=50,200"
                                  " --set Output/write_fields=false --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto table = nlohmann::json::parse(slurp(out / "stiffness.json"));
@@ -701,6 +705,21 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
   ASSERT_EQ(rows.size(), 5u);
   for (const auto &row : rows)
     EXPECT_GE(column(row, 6), 2.0) << "pairs in contact: " << row;
+  EXPECT_EQ(csv_rows(out / "stiffness_map.csv", 0).size(), 5u);
+  EXPECT_EQ(csv_rows(out / "stiffness_map.csv", 1).size(), 5u);
+  const auto ladder = table.at("load_ladder").at("approach_m").get<std::vector<std::vector<double>>>();
+  ASSERT_GE(ladder.size(), 10u);
+  for (std::size_t j = 1; j < ladder.size(); ++j)
+    for (std::size_t s = 0; s < ladder[j].size(); ++s)
+      EXPECT_GT(ladder[j][s], ladder[j - 1][s]) << "rung " << j << ", position " << s;
+
+  const fs::path dyn_fe = fresh_temp_dir("dynamics_helical_fe_law");
+  const auto     fe_law = run_hertzgear("dynamics " + scene_path("paper_helical.prm") +
+                                    " --set Stiffness/source=table --set Stiffness/table_file=" +
+                                    (out / "stiffness.json").string() +
+                                    " --set Effects/mesh_force_law=fe-map --set Dynamics/periods=40"
+                                    " --set Dynamics/transient_periods=20 --out " + dyn_fe.string());
+  ASSERT_EQ(fe_law.exit_code, 0) << fe_law.err;
 
   const fs::path dyn = fresh_temp_dir("dynamics_helical");
   const auto d = run_hertzgear("dynamics " + scene_path("paper_helical.prm") +
@@ -712,6 +731,8 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
   const double r_b1 = 23 * 3.0 * std::cos(alpha_t) / (2 * std::cos(beta)); // mm
   const auto   summary = nlohmann::json::parse(slurp(dyn / "summary.json"));
   EXPECT_NEAR(summary.at("static_force_N").get<double>(), 210e3 / r_b1, 1e-9 * 210e3 / r_b1);
+  EXPECT_NEAR(nlohmann::json::parse(slurp(dyn_fe / "summary.json")).at("static_force_N").get<double>(),
+              210e3 / r_b1, 1e-9 * 210e3 / r_b1);
   // The axial force is the transverse force times tan(beta_b), sin(beta_b) = sin(beta) cos(alpha_n).
   const double beta_b = std::asin(std::sin(beta) * std::cos(20 * M_PI / 180));
   const auto  &axial  = summary.at("axial_force");
