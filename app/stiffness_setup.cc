@@ -100,7 +100,21 @@ namespace hertzgear
       input.fe.mesh_dir = processes::all_gather(temporary_path_for(mesh_dir).string()).front();
     if (write_fields && source.uses_fe())
       input.fe.fields_dir = dir.path() / "fields";
-    auto result = source.compute(input, timer);
+    stiffness::StiffnessResult result;
+    try
+      {
+        result = source.compute(input, timer);
+      }
+    catch (...)
+      {
+        // A stopped analysis leaves no hidden mesh folder behind (the old table keeps its own).
+        if (processes::is_root() && source.uses_fe())
+          {
+            std::error_code ec;
+            fs::remove_all(input.fe.mesh_dir, ec);
+          }
+        throw;
+      }
     if (processes::is_root())
       {
         PhaseTimer::Scope scope(timer, "write stiffness");
