@@ -22,6 +22,7 @@ namespace hertzgear
       const Scene scene = load_scene(ctx.scene_file, ctx.overrides);
       const auto  pair  = make_pair(scene);
       const auto  settings = stiffness::fe_mesh_settings(stiffness_input(scene).fe);
+      meshing::require_layers_for_twist(pair, settings); // both bodies, before any folder
       begin_on_out(ctx);
       if (!processes::is_root())
         return 0; // gmsh meshes on one process

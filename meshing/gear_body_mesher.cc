@@ -1,6 +1,7 @@
 // Every gmsh call of hertzgear lives in this file (built-in "geo" kernel: exact control of the
 // points, deterministic, no OpenCASCADE needed).
 #include "meshing/gear_body_mesher.h"
+#include "meshing/pair_kinematics.h"
 
 #include "common/atomic_file.h"
 #include "common/errors.h"
@@ -422,6 +423,15 @@ namespace hertzgear::meshing
                      " mm); set {face_width_layers} >= ", c.needed, " (",
                      field(gear.parameters(), "helix_angle_rad"), ", ",
                      field(gear.parameters(), "face_width_mm"), ")");
+  }
+
+  void require_layers_for_twist(const PairKinematics &pair, const MeshSettings &settings)
+  {
+    const double r[2] = {pair.active_profile_start_radius_mm(0), pair.active_profile_start_radius_mm(1)};
+    const unsigned int first =
+      layers_needed_for_twist(pair.body(1), settings, r[1]) > layers_needed_for_twist(pair.body(0), settings, r[0]) ? 1 : 0;
+    require_layers_for_twist(pair.body(first), settings, r[first]);
+    require_layers_for_twist(pair.body(1 - first), settings, r[1 - first]);
   }
 
   MeshQuality GearBodyMesher::mesh(const GearGeometry &gear, const MeshSettings &settings,

@@ -34,6 +34,7 @@
 
 namespace hertzgear::meshing
 {
+  class PairKinematics;
   // Physical-group tags of the bodies (gmsh physical groups; deal.II's GridIn reads them as
   // boundary ids): the bore, the two radial cuts of a sector, and per tooth k of the mesh its
   // drive flank (100 + k), coast flank (200 + k), drive and coast fillets (300 + k, 400 + k).
@@ -99,6 +100,9 @@ namespace hertzgear::meshing
   // The {face_width_layers} that rule needs (1 for 2D or spur bodies).
   unsigned int layers_needed_for_twist(const GearGeometry &gear, const MeshSettings &settings,
                                        double active_start_radius_mm);
+  // Both bodies of a pair, each from the start of its active profile: the one that needs more
+  // layers is checked first, so that a refusal names the count that carries both.
+  void require_layers_for_twist(const PairKinematics &pair, const MeshSettings &settings);
 
   // Its record in mesh_quality.json (units in the keys).
   nlohmann::json mesh_quality_json(const MeshQuality &quality);

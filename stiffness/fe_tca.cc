@@ -1090,14 +1090,7 @@ namespace hertzgear::stiffness
           {
             const meshing::PairKinematics kin(input.pair);
             const auto                    mesh = fe_mesh_settings(fe);
-            // The body that needs more layers first, so that the message names the count
-            // that carries both.
-            const double r_pinion = kin.point('A').radius_pinion_mm, r_gear = kin.point('E').radius_gear_mm;
-            if (meshing::layers_needed_for_twist(kin.gear(), mesh, r_gear) >
-                meshing::layers_needed_for_twist(kin.pinion(), mesh, r_pinion))
-              meshing::require_layers_for_twist(kin.gear(), mesh, r_gear);
-            meshing::require_layers_for_twist(kin.pinion(), mesh, r_pinion);
-            meshing::require_layers_for_twist(kin.gear(), mesh, r_gear);
+            meshing::require_layers_for_twist(kin, mesh);
           }
         if (!(input.torque_Nm > 0))
           throw ParameterError("torque_Nm", msg(input.torque_Nm, ": the loaded tooth contact "

@@ -255,14 +255,14 @@ TEST(BadInput, HelicalScenesAreRefusedByTheStagesThatCannotServeThem)
                   "Mesh/face_width_layers", "", "set Mesh/face_width_layers >= 20"});
   // The mesher builds helical 3D bodies (tests/meshing/test_mesh.cc), but not with fewer layers
   // along the face than the twist needs (docs/geometry.md, "Meshes"): it names the key and the
-  // count that would do.
+  // count that carries both bodies (the gear's 8; the pinion would take 7).
   const fs::path mesh_out = fresh_temp_dir("bad_input_mesh_" + this_test()) / "mesh";
   const auto     mesh     = run_hertzgear("mesh " + helical +
                                   " --set Stiffness/fe_dimension=3 --set Mesh/face_width_layers=2 --out " +
                                   quoted(mesh_out));
   EXPECT_EQ(mesh.exit_code, 2) << mesh.err;
   EXPECT_THAT(mesh.err, HasSubstr("cannot carry the helix"));
-  EXPECT_THAT(mesh.err, HasSubstr("set Mesh/face_width_layers >= 7"));
+  EXPECT_THAT(mesh.err, HasSubstr("set Mesh/face_width_layers >= 8"));
   EXPECT_FALSE(fs::exists(mesh_out)) << "mesh: left a folder";
   // A table records no helix angle for a spur pair: it is a spur table, and serves no helical pair.
   const fs::path spur_table = fs::path(HERTZGEAR_SOURCE_DIR) / "data" / "stiffness" / "paper_uncrowned.json";
