@@ -541,7 +541,9 @@ namespace hertzgear::contact
     // the first position and 2-4 % at the fourth, while the slope over the load agreed with the
     // fixed-grid tangent of a 64-cell grid within that one's own scatter (docs/theory-tca.md).
     const double h = settings.tangent_step;
-    if (face_band_follows_load())
+    if (!settings.tangent)
+      r.k_total_tangent_N_per_mm = 0;
+    else if (face_band_follows_load())
       {
         const auto approach_at = [&](const double load) {
           const Solved s = solve_on_own_grid(load);
@@ -630,7 +632,9 @@ namespace hertzgear::contact
     r.k_hertz = load_N / std::pow(weighted_penetration, n);
     // F = k_h d^n: dF/dd = n F / d.
     const double k_hertz_tangent = n * load_N / weighted_penetration;
-    r.k_rest_N_per_mm            = 1.0 / (1.0 / r.k_total_tangent_N_per_mm - 1.0 / k_hertz_tangent);
+    r.k_rest_N_per_mm = settings.tangent ?
+                          1.0 / (1.0 / r.k_total_tangent_N_per_mm - 1.0 / k_hertz_tangent) :
+                          0.0;
 
     // Where the load sits (the columns of a torque map).
     double force = 0, moment = 0;

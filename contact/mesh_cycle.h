@@ -106,6 +106,10 @@ namespace hertzgear::contact
     double band_half_width_mm = 0;
     double hertz_exponent     = 1.5;  // n of F = k_h delta^n
     double tangent_step       = 0.02; // relative load step of the tangent stiffness
+    // Whether each position also takes its tangent stiffness (two further solves, or two further
+    // grids on a load band); without it k_total_tangent and k_rest are 0. The FE force law's
+    // load ladder needs only the approaches.
+    bool tangent = true;
     bool   plane_strain       = false;
     // Pairs whose contact line lies up to this many base pitches outside the path of contact are
     // included (extended contact near the tips under load); their gap decides whether they touch.

@@ -858,12 +858,15 @@ namespace hertzgear::stiffness
           return;
         PhaseTimer::Scope scope(timer, "load ladder");
         const auto        start = std::chrono::steady_clock::now();
+        // A rung is its approach and Hertzian part per position: no tangent stiffness.
+        auto rung_settings    = cycle_settings;
+        rung_settings.tangent = false;
         for (std::size_t j = 0; j < percents.size(); ++j)
           {
             const auto t0      = std::chrono::steady_clock::now();
             const bool nominal = percents[j] == 100.0;
             ladder.push_back(nominal ? cycle :
-                                       solve_cycle(cycle_settings, *kin, load_N * percents[j] / 100.0,
+                                       solve_cycle(rung_settings, *kin, load_N * percents[j] / 100.0,
                                                    false));
             double a_min = 1e300, a_max = 0, ah_mean = 0, a_mean = 0;
             for (const auto &p : ladder.back().positions)
