@@ -108,7 +108,9 @@ namespace hertzgear
     catch (...)
       {
         // A stopped analysis leaves no hidden mesh folder behind (the old table keeps its own).
-        if (processes::is_root() && source.uses_fe())
+        // Whichever rank stops first removes it: under mpirun it ends every rank (MPI_Abort),
+        // so rank 0 may not get here.
+        if (source.uses_fe())
           {
             std::error_code ec;
             fs::remove_all(input.fe.mesh_dir, ec);

@@ -747,15 +747,19 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
 // message that names the position and load and says that the FE law is not available for such a
 // pair, no table and no hidden mesh folder left in the output folder. Coarse: 20 um of crowning
 // on both gears at 15 deg, where position 2 falls from 3.49 um at 35 % to 3.16 um at 50 %.
-TEST(StiffnessCli, ACrownedHelicalLadderThatFallsWithTheLoadStopsCleanly)
+namespace
 {
-  const fs::path out = fresh_temp_dir("stiffness_crowned_helical") / "run";
+  // The crowned helical ladder of the two tests below, run with `launcher`.
+  void expect_crowned_helical_ladder_stopped(const std::string &name, const std::string &launcher)
+  {
+  const fs::path out = fresh_temp_dir(name) / "run";
   const auto     r   = run_hertzgear("stiffness " + scene_path("paper_helical.prm") +
                                  " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=8"
                                  " --set Stiffness/positions_per_cycle=5 --set Stiffness/harmonics=2"
                                  " --set 'Gear pair/Pinion/crowning_um=20' --set 'Gear pair/Gear/crowning_um=20'"
                                  " --set Stiffness/hertz_exponent=1.5 --set Effects/mesh_force_law=fe-map"
-                                 " --set Output/write_fields=false --out " + out.string());
+                                 " --set Output/write_fields=false --out " + out.string(),
+                                 launcher);
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_THAT(r.err, HasSubstr("the Hertzian approach does not grow with the load at position"));
   EXPECT_THAT(r.err, HasSubstr("on a crowned helical pair"));
@@ -766,6 +770,22 @@ TEST(StiffnessCli, ACrownedHelicalLadderThatFallsWithTheLoadStopsCleanly)
       for (const auto &e : fs::directory_iterator(out))
         EXPECT_THAT(e.path().filename().string(), ::testing::Not(HasSubstr("hg-partial"))) << e.path();
     }
+  }
+} // namespace
+
+TEST(StiffnessCli, ACrownedHelicalLadderThatFallsWithTheLoadStopsCleanly)
+{
+  expect_crowned_helical_ladder_stopped("stiffness_crowned_helical", "");
+}
+
+// The same under mpirun -np 2: the rank that stops first ends both (exit 3, one message) and
+// leaves no hidden mesh folder; `timeout` turns a rank that waits forever into exit 124.
+TEST(StiffnessCliMpi, ACrownedHelicalLadderThatFallsWithTheLoadStopsBothRanksCleanly)
+{
+  if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
+    GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
+  expect_crowned_helical_ladder_stopped("stiffness_crowned_helical_mpi2",
+                                        "timeout 300 mpirun -np 2 --oversubscribe");
 }
 
 // Requirement: beta = 0 reproduces the spur tables, 2D and 3D, to round-off. A spur pair runs

@@ -306,6 +306,16 @@ namespace
         }
     return false;
   }
+
+  // The contact grid of the load face band tests: 24 x 16 cells, the face band following the load.
+  MeshCycleSettings load_band_settings()
+  {
+    MeshCycleSettings settings;
+    settings.profile_cells = 24;
+    settings.face_cells    = 16;
+    settings.face_extent   = MeshCycleSettings::FaceExtent::load;
+    return settings;
+  }
 } // namespace
 
 TEST(MeshCycle, TheLoadFaceBandScalesWithTheHertzContact)
@@ -322,10 +332,7 @@ TEST(MeshCycle, TheLoadFaceBandScalesWithTheHertzContact)
   // inside it; (4) uncrowned flanks keep the whole face.
   const meshing::PairKinematics kin(paper_pair(0.08));
   const RigidFlankCompliance    far(1.0e6);
-  MeshCycleSettings             settings;
-  settings.profile_cells = 24;
-  settings.face_cells    = 16;
-  settings.face_extent   = MeshCycleSettings::FaceExtent::load;
+  MeshCycleSettings             settings   = load_band_settings();
   const MeshCycle cycle(kin, steel, steel, far, far, settings);
   const double    F1 = 0.1 * paper_load_N, F2 = 8.0 * F1;
   const auto      band1 = cycle.face_band(F1), band2 = cycle.face_band(F2);
@@ -371,10 +378,7 @@ TEST(MeshCycle, TheLoadFaceBandGrowsUntilTheContactIsInsideIt)
   auto p                 = paper_pair(0.08);
   const meshing::PairKinematics kin(p);
   const RigidFlankCompliance    far(1.0e6);
-  MeshCycleSettings             settings;
-  settings.profile_cells       = 24;
-  settings.face_cells          = 16;
-  settings.face_extent         = MeshCycleSettings::FaceExtent::load;
+  MeshCycleSettings             settings   = load_band_settings();
   settings.face_band_semi_axes = 0.5;
   const double tau = 0.5 * kin.contact_ratio();
   const double F   = 0.3 * paper_load_N;
@@ -418,10 +422,7 @@ TEST(MeshCycle, AContactAtAFlankEndIsSmoothInTheLoadOnALoadBand)
   // contact reaches the face ends, where the band is the whole face (docs/theory-tca.md).
   const meshing::PairKinematics kin(paper_pair(0.08));
   const RigidFlankCompliance    far(1.0e6);
-  MeshCycleSettings             settings;
-  settings.profile_cells = 24;
-  settings.face_cells    = 16;
-  settings.face_extent   = MeshCycleSettings::FaceExtent::load;
+  MeshCycleSettings             settings   = load_band_settings();
   const MeshCycle cycle(kin, steel, steel, far, far, settings);
   const double    tau = kin.contact_ratio() - 1.0 - 0.0035;
   std::vector<double> log_load, log_approach;
