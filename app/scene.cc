@@ -255,16 +255,16 @@ namespace hertzgear
             "Contact grid points across the profile per tooth pair (count).");
       s.add("contact_grid_face_points", st.contact_grid_face_points, 16, Patterns::Integer(1, 4096),
             "Contact grid points along the face width per tooth pair (count).");
-      s.add("contact_grid_face_extent", st.contact_grid_face_extent, "face-width",
+      s.add("contact_grid_face_extent", st.contact_grid_face_extent, "load",
             Patterns::Selection("face-width|load"),
-            "Face extent of the 3D contact grid: face-width (its points cover the whole face "
-            "width at every load) or load (for crowned point contact a band that follows the "
-            "load: 2 x the Hertz semi-axis along the face of the whole load on one pair either "
-            "side of the smallest unloaded gap along the face, clipped to the face and enlarged "
-            "where the contact reaches its inner edge, with the cells that a flank end crosses "
-            "cut at it, so that the contact covers about the same points at every load and its "
-            "discretisation error is smooth in the load; docs/theory-tca.md). Uncrowned flanks "
-            "and 2D use the whole face either way.");
+            "Face extent of the 3D contact grid: load (for crowned spur point contact a band that "
+            "follows the load: 2 x the Hertz semi-axis along the face of the whole load on one "
+            "pair either side of the smallest unloaded gap along the face, clipped to the face "
+            "and enlarged where the contact reaches its inner edge, with the cells that a flank "
+            "end crosses cut at it, so that the contact covers about the same points at every "
+            "load and its discretisation error is smooth in the load; docs/theory-tca.md) or "
+            "face-width (its points cover the whole face width at every load). Uncrowned flanks, "
+            "helical pairs and 2D use the whole face either way.");
       s.add("contact_max_iterations", st.contact_max_iterations, 100, Patterns::Integer(1, 100000),
             "Iteration cap of the active-set contact solver per solve (count); reaching it is a "
             "numerical failure (exit 3) with the history of the active set.");

@@ -135,8 +135,11 @@ namespace hertzgear::contact
 
   bool MeshCycle::face_band_follows_load() const
   {
+    // A spur pair's crowned contact only: a helical pair's contacts lie along inclined lines
+    // whose smallest gap moves along the face with the line, which a band around the vertex of
+    // the lead gap does not follow (docs/theory-tca.md, "Helical pairs").
     return !settings.plane_strain && settings.face_extent == MeshCycleSettings::FaceExtent::load &&
-           face_curvature_per_mm(kinematics) > 0;
+           kinematics.helix_angle_rad() == 0 && face_curvature_per_mm(kinematics) > 0;
   }
 
   MeshCycle::FaceBand MeshCycle::face_band(const double load_N) const
@@ -159,7 +162,7 @@ namespace hertzgear::contact
     //    PairKinematics::lead_gap_mm), so that place is the same for every pair and position.
     //  - Clipped to the face: a band that would leave it ends at the face end, and from the load
     //    at which c b reaches half the face width on (about 280 % of the nominal load on the
-    //    crowned paper pair) the band is the whole face, the default grid.
+    //    crowned paper pair) the band is the whole face, the face-width grid.
     // Where the contact still reaches an inner edge of the band (misalignment, relieved ends, a
     // load carried by one pair far beyond b), solve_position enlarges the band and solves again.
     const double half_face = 0.5 * kinematics.face_width_mm();

@@ -89,17 +89,18 @@ namespace hertzgear::contact
     unsigned int n_harmonics   = 4;   // of the Fourier fits
     unsigned int profile_cells = 24;  // across the contact band, per pair
     unsigned int face_cells    = 16;  // along the face extent, per pair (1 for plane strain)
-    // Face extent of the contact grid (3D): the whole face width, or (load) a band that follows
-    // the load for point contact, face_band_semi_axes times the Hertz semi-axis along the face
+    // Face extent of the contact grid (3D): a band that follows the load for the point contact
+    // of a crowned spur pair (load), face_band_semi_axes times the Hertz semi-axis along the face
     // of the whole load on one pair, around the smallest unloaded gap along the face, clipped to
     // the face and enlarged where the contact would reach its inner edge (MeshCycle::face_band,
-    // docs/theory-tca.md, "Compliance of the contact grid").
+    // docs/theory-tca.md, "Compliance of the contact grid"), or the whole face width. Uncrowned
+    // and helical pairs use the whole face either way.
     enum class FaceExtent
     {
       face_width,
       load
     };
-    FaceExtent face_extent         = FaceExtent::face_width;
+    FaceExtent face_extent         = FaceExtent::load;
     double     face_band_semi_axes = 2.0; // c of the load band's half-length c b_Hertz(F)
     // Half-width of the contact band across the profile [mm]; 0 = automatic: three times the
     // Hertz half-width of the whole load on one pair at the pitch point.
@@ -196,7 +197,7 @@ namespace hertzgear::contact
     double band_half_width(double load_N) const;
 
     // Face extent of the contact grid before any enlargement [mm]: the whole face width, or for
-    // FaceExtent::load and a crowned (point) contact the band [z_c - c b, z_c + c b] clipped to
+    // FaceExtent::load and the crowned (point) contact of a spur pair the band [z_c - c b, z_c + c b] clipped to
     // the face, z_c where the unloaded gap along the face is smallest and b the Hertz semi-axis
     // along the face of the whole load on one pair at the pitch point.
     struct FaceBand
@@ -204,8 +205,8 @@ namespace hertzgear::contact
       double min_mm = 0, max_mm = 0;
     };
     FaceBand face_band(double load_N) const;
-    // Whether the grid's face extent follows the load (FaceExtent::load and a crowned contact in
-    // 3D); the tangent stiffness is then the slope of the approach over the load, each load on
+    // Whether the grid's face extent follows the load (FaceExtent::load and the crowned contact
+    // of a spur pair in 3D); the tangent stiffness is then the slope of the approach over the load, each load on
     // its own grid.
     bool face_band_follows_load() const;
 

@@ -39,7 +39,7 @@ namespace hertzgear::stiffness
     int         face_width_layers          = 8; // 3D: hexahedral layers at level 0
     int         contact_grid_profile_cells = 24;
     int         contact_grid_face_cells    = 16;
-    std::string contact_grid_face_extent   = "face-width"; // face-width | load (3D point contact)
+    std::string contact_grid_face_extent   = "load"; // load | face-width (3D crowned spur)
     int         contact_max_iterations     = 100;
     bool        decoupled_teeth            = false; // teeth do not feel each other's loads
     double      reference_depth_mm         = 0;     // 0: 3 x the band element size

@@ -100,8 +100,9 @@ TEST(Scene, OverridesApplyInOrderAndChangeTheHash)
 // Requirement: the helix keys are per gear (ISO 21771) and converted to the meshing stage's
 // radians and hands; a spur gear's helix keys (helix angle 0) stay out of the scene hash, so a spur
 // scene keeps the hash it had before those keys existed (run.json and the stiffness tables record
-// it): ee57e12182fca8d8 for paper_uncrowned.prm, whatever hand or spelling of 0 it gives; a helical
-// scene has its own hash.
+// it): ee57e12182fca8d8 for paper_uncrowned.prm with the contact grid's face extent of that time
+// (face-width; the default is now load, which changes every scene's hash, as a changed default
+// must), whatever hand or spelling of 0 it gives; a helical scene has its own hash.
 TEST(Scene, HelixKeysConvertAndLeaveTheSpurHashAsItWas)
 {
   const Scene helical = load_scene(scene_path("paper_helical.prm"));
@@ -114,8 +115,12 @@ TEST(Scene, HelixKeysConvertAndLeaveTheSpurHashAsItWas)
   EXPECT_EQ(pair.pinion.hand, meshing::HelixHand::right);
   EXPECT_EQ(pair.gear.hand, meshing::HelixHand::left);
 
+  const std::string then = "Stiffness/contact_grid_face_extent=face-width";
+  EXPECT_EQ(load_scene(scene_path("paper_uncrowned.prm"), {then}).hash, "ee57e12182fca8d8")
+    << "the hash of paper_uncrowned.prm before the helix keys";
+  EXPECT_EQ(load_scene(scene_path("paper_uncrowned.prm"), {then, "Gear pair/Pinion/hand=left"}).hash,
+            "ee57e12182fca8d8");
   const Scene spur = load_scene(scene_path("paper_uncrowned.prm"));
-  EXPECT_EQ(spur.hash, "ee57e12182fca8d8") << "the hash of paper_uncrowned.prm before the helix keys";
   EXPECT_EQ(pair_parameters(spur).pinion.helix_angle_rad, 0.0);
   const Scene spelled = load_scene(scene_path("paper_uncrowned.prm"),
                                    {"Gear pair/Pinion/hand=left", "Gear pair/Gear/helix_angle_deg=0.0"});

@@ -82,6 +82,7 @@ TEST(HelicalContact, SpurPairKeepsItsGoldenResults)
   MeshCycleSettings          settings;
   settings.profile_cells = 12;
   settings.face_cells    = 8;
+  settings.face_extent   = MeshCycleSettings::FaceExtent::face_width; // as recorded
   const MeshCycle cycle(kin, steel, steel, rigid, rigid, settings);
   const double    golden[3][7] = {
     {0x1.90fc016157c9dp-8, 0x1.145a79792d37ep-12, 0x1.afd8bcea978a5p+20, 0x1.900f02a7baba6p-8,
@@ -294,6 +295,9 @@ TEST(HelicalContact, VanishingHelixAngleIsTheSpurPair)
   MeshCycleSettings          settings;
   settings.profile_cells = 12;
   settings.face_cells    = 8;
+  // The whole face for both: the load face band is a spur construction (a helical pair's grid
+  // always covers the whole face), so the limit is taken on the grid both pairs share.
+  settings.face_extent = MeshCycleSettings::FaceExtent::face_width;
   const MeshCycle a(spur, steel, steel, rigid, rigid, settings);
   const MeshCycle b(thin, steel, steel, rigid, rigid, settings);
   for (const double tau : {0.2, 0.7})

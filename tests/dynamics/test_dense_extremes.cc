@@ -144,8 +144,10 @@ TEST(DenseExtremes, SamplesOnlyWhenAskedFor)
   const Outcome o = run(IntegratorKind::cvode_bdf, 0, 1e-8, 100, false);
   EXPECT_EQ(o.summary.extremes_from, "samples");
   EXPECT_FALSE(o.result.has_dense_extremes);
+  // Over whole periods: the last sample repeats the phase of the first and is left out
+  // (analyse); the run of 10 periods after 10 transient ones need not be periodic yet.
   double max_force = -1e300;
-  for (const auto &s : o.result.steady)
-    max_force = std::max(max_force, s.force_N);
+  for (std::size_t i = 0; i + 1 < o.result.steady.size(); ++i)
+    max_force = std::max(max_force, o.result.steady[i].force_N);
   EXPECT_EQ(o.summary.max_force_N, max_force);
 }
