@@ -67,7 +67,7 @@ namespace hertzgear::dynamics::testing
   // (the shipped FE table data/stiffness/paper_crowned.json, k constant at its mean, c from
   // zeta = 0.015 on the linearised stiffness), at 16000 rpm: near the primary resonance, where
   // the layer opens at delta = 0 and the teeth fly through the backlash and close again once per
-  // mesh period from the 14th period on (from the scene's initial state, contact_loss_start).
+  // mesh period once the transient from the scene's initial state (contact_loss_start) has settled.
   inline GearPairParameters contact_loss_pair()
   {
     GearPairParameters p;
