@@ -3,6 +3,7 @@
 #include "app/meshing_setup.h"
 #include "app/stiffness_setup.h"
 #include "meshing/gear_geometry.h"
+#include "meshing/pair_kinematics.h"
 #include "common/errors.h"
 #include "dynamics/parameter_families.h"
 
@@ -168,10 +169,6 @@ namespace hertzgear
   void check_dynamics_scene(const Scene &scene)
   {
     const auto &op = scene.operating;
-    HG_REQUIRE_INPUT(op.center_distance_mm == 0.0,
-                     "Operating/center_distance_mm = ", op.center_distance_mm,
-                     ": the dynamics takes the backlash along the line of action from "
-                     "Operating/backlash_mm; set center_distance_mm = 0 and give backlash_mm");
     HG_REQUIRE_INPUT(op.speed_rpm > 0.0, "Operating/speed_rpm must be > 0 for the dynamics");
     run_settings(scene);
     if (scene.dynamics.damping_from != "ratio")
@@ -180,7 +177,9 @@ namespace hertzgear
 
   DynamicsSetup make_dynamics_setup(const Scene &scene)
   {
-    make_pair(scene); // the dynamics uses the geometry (F_0 = T_1 / r_b1, inertias): check it
+    // The dynamics uses the geometry (F_0 = T_1 / r_b1, inertias, the backlash of a given centre
+    // distance): check it.
+    const meshing::PairKinematics kinematics(make_pair(scene));
     check_dynamics_scene(scene);
     DynamicsSetup s;
     const auto   &d  = scene.dynamics;
@@ -206,8 +205,9 @@ namespace hertzgear
     p.equivalent_mass_kg   = dynamics::equivalent_mass(s.pinion_inertia_kg_m2, s.gear_inertia_kg_m2,
                                                      s.pinion_base_radius_m, s.gear_base_radius_m);
     p.static_force_N       = op.torque_Nm / s.pinion_base_radius_m;
-    // Operating/backlash_mm is the total backlash along the line of action: b_c is half of it.
-    p.half_backlash_m      = 0.5e-3 * op.backlash_mm;
+    // The total backlash along the line of action, b_c half of it: Operating/backlash_mm, or the
+    // backlash that a given centre distance leaves (then backlash_mm is 0, check_consistency).
+    p.half_backlash_m = 0.5e-3 * (op.center_distance_mm > 0.0 ? kinematics.backlash_loa_mm() : op.backlash_mm);
     s.speed_rpm            = op.speed_rpm;
     p.mesh_frequency_rad_per_s = 2.0 * M_PI * scene.pinion.teeth * op.speed_rpm / 60.0;
     p.alpha_s_per_m            = d.alpha_s_per_m;

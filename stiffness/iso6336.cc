@@ -54,23 +54,28 @@ namespace hertzgear::stiffness
                                               const double pinion_torque_Nm)
   {
     const meshing::GearParameters &p1 = pair.pinion().parameters(), &p2 = pair.gear().parameters();
-    meshing::require_spur_pair(p1, p2, "the ISO 6336-2 nominal contact stress");
-    const double d1      = p1.module_mm * p1.teeth;
+    const double beta    = pair.helix_angle_rad(), cos_beta = std::cos(beta);
+    const double cos_bb  = std::cos(pair.base_helix_angle_rad());
+    const double d1      = p1.module_mm * p1.teeth / cos_beta;
     const double b       = std::min(p1.face_width_mm, p2.face_width_mm);
     const double u       = double(p2.teeth) / p1.teeth;
-    const double alpha   = p1.pressure_angle_rad;
-    const double alpha_w = pair.operating_pressure_angle_rad();
-    const double Z_H     = std::sqrt(2 * std::cos(alpha_w) /
-                                 (std::cos(alpha) * std::cos(alpha) * std::sin(alpha_w)));
-    const double Z_E     = std::sqrt(1 / (pi * ((1 - pinion.poisson_ratio * pinion.poisson_ratio) /
-                                              pinion.youngs_modulus_MPa +
-                                            (1 - gear.poisson_ratio * gear.poisson_ratio) /
-                                              gear.youngs_modulus_MPa)));
-    const double Z_eps   = std::sqrt(std::max(0.0, 4 - pair.contact_ratio()) / 3);
+    const double alpha_t = pair.pinion().transverse_pressure_angle_rad();
+    const double alpha_w = pair.operating_pressure_angle_rad(); // transverse
+    const double eps_a = pair.contact_ratio(), eps_b = pair.face_contact_ratio();
     NominalContactStress s;
+    s.Z_H   = std::sqrt(2 * cos_bb * std::cos(alpha_w) /
+                      (std::cos(alpha_t) * std::cos(alpha_t) * std::sin(alpha_w)));
+    s.Z_E   = std::sqrt(1 / (pi * ((1 - pinion.poisson_ratio * pinion.poisson_ratio) /
+                                   pinion.youngs_modulus_MPa +
+                                 (1 - gear.poisson_ratio * gear.poisson_ratio) /
+                                   gear.youngs_modulus_MPa)));
+    s.Z_eps = eps_b < 1 ? std::sqrt(std::max(0.0, 4 - eps_a) / 3 * (1 - eps_b) + eps_b / eps_a) :
+                          std::sqrt(1 / eps_a);
+    s.Z_beta = 1 / std::sqrt(cos_beta);
     s.tangential_force_N     = 2000 * std::abs(pinion_torque_Nm) / d1;
     s.specific_load_N_per_mm = s.tangential_force_N / b;
-    s.sigma_H0_MPa = Z_H * Z_E * Z_eps * std::sqrt(s.tangential_force_N / (d1 * b) * (u + 1) / u);
+    s.sigma_H0_MPa = s.Z_H * s.Z_E * s.Z_eps * s.Z_beta *
+                     std::sqrt(s.tangential_force_N / (d1 * b) * (u + 1) / u);
     return s;
   }
 } // namespace hertzgear::stiffness

@@ -50,17 +50,21 @@ namespace hertzgear::stiffness
   // width is the smaller of both. Solid blanks (C_R = 1). Spur and helical pairs.
   Iso6336Stiffness iso6336_method_b(const meshing::PairKinematics &pair, double pinion_torque_Nm);
 
-  // The nominal contact stress of ISO 6336-2 (method B) at the pitch point of a spur pair,
-  //   sigma_H0 = Z_H Z_E Z_eps sqrt(F_t / (d1 b) (u + 1) / u)   [MPa]
-  // with F_t = 2000 |T1| / d1 on the reference circle (K factors 1), d1 = m z1, b the smaller face
-  // width, u = z2 / z1, the zone factor Z_H = sqrt(2 cos(alpha_w) / (cos^2(alpha) sin(alpha_w))),
-  // the elasticity factor Z_E = sqrt(1 / (pi ((1 - nu1^2) / E1 + (1 - nu2^2) / E2))) and the
-  // contact ratio factor Z_eps = sqrt((4 - eps_alpha) / 3). A helical pair is refused (InputError).
+  // The nominal contact stress of ISO 6336-2 (method B) at the pitch point, spur or helical,
+  //   sigma_H0 = Z_H Z_E Z_eps Z_beta sqrt(F_t / (d1 b) (u + 1) / u)   [MPa]
+  // with F_t = 2000 |T1| / d1 on the reference circle (K factors 1), d1 = m_n z1 / cos(beta), b the
+  // smaller face width, u = z2 / z1, the zone factor
+  // Z_H = sqrt(2 cos(beta_b) cos(alpha_wt) / (cos^2(alpha_t) sin(alpha_wt))), the elasticity factor
+  // Z_E = sqrt(1 / (pi ((1 - nu1^2) / E1 + (1 - nu2^2) / E2))), the contact ratio factor
+  // Z_eps = sqrt((4 - eps_alpha) / 3 (1 - eps_beta) + eps_beta / eps_alpha) for eps_beta < 1 and
+  // sqrt(1 / eps_alpha) from eps_beta = 1 on, and the helix angle factor Z_beta = 1 / sqrt(cos(beta))
+  // (all 1 or their spur forms at beta = 0).
   struct NominalContactStress
   {
     double sigma_H0_MPa                = 0;
     double tangential_force_N          = 0; // F_t
     double specific_load_N_per_mm      = 0; // F_t / b
+    double Z_H = 0, Z_E = 0, Z_eps = 0, Z_beta = 0;
   };
   NominalContactStress nominal_contact_stress(const meshing::PairKinematics &pair,
                                               const Material &pinion, const Material &gear,

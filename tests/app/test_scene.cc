@@ -4,6 +4,8 @@
 #include "app/meshing_setup.h"
 #include "app/scene.h"
 #include "common/errors.h"
+#include "meshing/pair_kinematics.h"
+#include "stiffness/iso6336.h"
 
 #include "tests/support/run_command.h"
 
@@ -101,7 +103,7 @@ TEST(Scene, OverridesApplyInOrderAndChangeTheHash)
 // radians and hands; a spur gear's helix keys (helix angle 0) stay out of the scene hash, so a spur
 // scene keeps the hash it had before those keys existed (run.json and the stiffness tables record
 // it): ee57e12182fca8d8 for paper_uncrowned.prm with the contact grid's face extent of that time
-// (face-width; the default is now load, which changes every scene's hash, as a changed default
+// (face-width; with the default, load, every scene hashes differently, as a changed default
 // must), whatever hand or spelling of 0 it gives; a helical scene has its own hash.
 TEST(Scene, HelixKeysConvertAndLeaveTheSpurHashAsItWas)
 {
@@ -270,4 +272,66 @@ TEST(SceneBadInput, CrossFieldChecksNameBothValues)
   EXPECT_THAT(input_error_of("", {"Stiffness/fe_dimension=2",
                                   "Gear pair/Pinion/crowning_um=10"}),
               HasSubstr("crowning"));
+}
+
+// Requirement: the bundled scene of ISO/TR 6336-30 Example 1 (a published helical pair, its data in
+// the scene's header) gives the example's published ISO 6336-1 values: F_t = 127 352.0 N,
+// c'_th = 17.85584, c' = 12.37047, c_gamma_alpha = 17.46485 and c_gamma_beta = 14.84512
+// N/(mm um) (as reproduced in the open ISO 6336 implementation gfsReboucas/Drivetrain,
+// MATISO_6336.m, example_01, which checks against the report's Annex A). Tolerance: half a unit
+// in the last printed digit, the published values' own rounding. This checks the scene's reading
+// of the example (helix, shift, basic rack, tip diameters, centre distance) and hertzgear's
+// ISO 6336-1 method B for a helical pair together: eps_alpha enters c_gamma_alpha, z_n and x1 c'_th.
+// Also ISO 6336-2's nominal contact stress with its helical factors: Z_H = 2.39533, Z_eps = 0.803,
+// sigma_H0 = 1206.58207 MPa, each to half a unit of its last printed digit.
+TEST(Scene, TheIsoTrExampleGivesThePublishedIsoStiffness)
+{
+  const Scene                   scene = load_scene(scene_path("iso_tr_6336_30_example1.prm"));
+  const meshing::PairKinematics pair(pair_parameters(scene));
+  const auto                    iso = stiffness::iso6336_method_b(pair, scene.operating.torque_Nm);
+  EXPECT_NEAR(iso.line_load_N_per_mm * 100.0, 127352.0, 0.5); // F_t over b = 100 mm, to the newton
+  EXPECT_NEAR(iso.c_prime_th_N_per_mm_um, 17.85584, 5e-6);
+  EXPECT_NEAR(iso.c_prime_N_per_mm_um, 12.37047, 5e-6);
+  EXPECT_NEAR(iso.c_gamma_alpha_N_per_mm_um, 17.46485, 5e-6);
+  EXPECT_NEAR(iso.c_gamma_beta_N_per_mm_um, 14.84512, 5e-6);
+  EXPECT_TRUE(iso.within_validity);
+  const auto sigma = stiffness::nominal_contact_stress(pair, scene.pinion_material, scene.gear_material,
+                                                       scene.operating.torque_Nm);
+  std::printf("Z_H %.6f Z_E %.4f Z_eps %.6f Z_beta %.6f sigma_H0 %.6f MPa\n", sigma.Z_H, sigma.Z_E,
+              sigma.Z_eps, sigma.Z_beta, sigma.sigma_H0_MPa);
+  EXPECT_NEAR(sigma.Z_H, 2.39533, 5e-6);
+  EXPECT_NEAR(sigma.Z_eps, 0.803, 5e-4);
+  EXPECT_NEAR(sigma.sigma_H0_MPa, 1206.58207, 5e-6);
+}
+
+// Requirement: a scene that gives the centre distance gives the dynamics the backlash that
+// distance leaves (Operating/center_distance_mm's help): b_c is half the pair's backlash along the
+// line of action, exactly as the geometry computes it; with center_distance_mm = 0 it is half of
+// backlash_mm. The paper's pair 0.3 mm further apart than its tight mesh.
+TEST(Scene, TheDynamicsTakeTheBacklashOfAGivenCentreDistance)
+{
+  const std::string fourier = scene_path("paper_uncrowned_fourier.prm");
+  const Scene       tight   = load_scene(fourier);
+  const double      a_tight = meshing::PairKinematics(pair_parameters(tight)).center_distance_mm();
+  const Scene       apart   = load_scene(fourier, {"Operating/center_distance_mm=" + std::to_string(a_tight + 0.3),
+                                                   "Operating/backlash_mm=0"});
+  const double      j_bn    = meshing::PairKinematics(pair_parameters(apart)).backlash_loa_mm();
+  EXPECT_GT(j_bn, 0.2);
+  EXPECT_EQ(make_dynamics_setup(apart).parameters.half_backlash_m, 0.5e-3 * j_bn);
+  EXPECT_EQ(make_dynamics_setup(tight).parameters.half_backlash_m, 0.5e-3 * tight.operating.backlash_mm);
+}
+
+// Requirement: every bundled scene passes `hertzgear check` (what `run` checks before it starts:
+// geometry, stiffness input, dynamics, the load's plausibility), helical ones included.
+TEST(Scene, EveryBundledSceneIsValid)
+{
+  int scenes = 0;
+  for (const auto &entry : std::filesystem::directory_iterator(std::string(HERTZGEAR_SOURCE_DIR) + "/data/scenes"))
+    if (entry.path().extension() == ".prm")
+      {
+        const auto r = hertzgear::testing::run_hertzgear("check '" + entry.path().string() + "'");
+        EXPECT_EQ(r.exit_code, 0) << entry.path() << ": " << r.err;
+        ++scenes;
+      }
+  EXPECT_GE(scenes, 9);
 }
