@@ -634,6 +634,12 @@ namespace hertzgear::stiffness
       void make_full_gear_bodies()
       {
         PhaseTimer::Scope           scope(timer, "FE compliance (full gears)");
+        // The pair's FE work is its two bodies, one rank each: further ranks wait for them.
+        if (processes::count() > 2)
+          progress_line("stiffness", msg("warning: ", processes::count(), " ranks, but the FE work of a pair on full "
+                                         "gears is its two bodies, one rank each: ranks 2 to ",
+                                         processes::count() - 1, " wait for them (docs/accuracy-stiffness.md, "
+                                         "\"MPI: what runs where\")"));
         fem::FlankTableSettings     s[2];
         std::unique_ptr<SharedBody> shared[2];
         for (unsigned int b = 0; b < 2; ++b)
