@@ -681,6 +681,7 @@ namespace hertzgear::contact
     const auto face           = face_band(load_N);
     result.face_band_min_mm   = face.min_mm;
     result.face_band_max_mm   = face.max_mm;
+    result.face_band_follows_load = face_band_follows_load();
 
     std::vector<double> phase, k_h, k_t, ste;
     double              k_rest_sum = 0;

@@ -173,6 +173,7 @@ namespace hertzgear::contact
     double                      mean_k_rest_N_per_mm = 0;
     double                      band_half_width_mm   = 0;
     double                      face_band_min_mm = 0, face_band_max_mm = 0; // before enlargement
+    bool                        face_band_follows_load = false; // MeshCycle::face_band_follows_load
     double                      load_N               = 0;
   };
 

@@ -1059,8 +1059,9 @@ namespace hertzgear::stiffness
         m["contact_band_half_width_mm"] = cycle.band_half_width_mm;
         m["contact_grid"] = {{"profile_cells", cycle_settings.profile_cells},
                              {"face_cells", dim == 2 ? 1u : cycle_settings.face_cells}};
-        // Recorded only for the load band, so that tables of the default grid stay as they were.
-        if (dim == 3 && cycle_settings.face_extent == contact::MeshCycleSettings::FaceExtent::load)
+        // Recorded where the band follows the load (a crowned spur pair in 3D with the load face
+        // extent); elsewhere the grid covers the whole face whatever the key says.
+        if (cycle.face_band_follows_load)
           {
             unsigned int enlarged = 0;
             for (const auto &p : cycle.positions)

@@ -720,6 +720,9 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto table = nlohmann::json::parse(slurp(out / "stiffness.json"));
   EXPECT_DOUBLE_EQ(table.at("pair").at("pinion").at("helix_angle_deg").get<double>(), 15.0);
+  // A helical pair's grid covers the whole face whatever Stiffness/contact_grid_face_extent says
+  // (its default is load): the table records no load band.
+  EXPECT_FALSE(table.at("fe").at("contact_grid").contains("face_extent")) << table.at("fe").at("contact_grid");
   const auto rows = csv_rows(out / "stiffness.csv");
   ASSERT_EQ(rows.size(), 5u);
   for (const auto &row : rows)
