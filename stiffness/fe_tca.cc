@@ -788,17 +788,11 @@ namespace hertzgear::stiffness
 
       void solve_contact_cycle()
       {
-        auto &cs          = cycle_settings;
-        cs.n_positions    = static_cast<unsigned int>(input.positions_per_cycle);
-        cs.n_harmonics    = static_cast<unsigned int>(input.harmonics);
-        cs.profile_cells  = static_cast<unsigned int>(fe.contact_grid_profile_cells);
-        cs.face_cells     = static_cast<unsigned int>(fe.contact_grid_face_cells);
-        cs.face_extent    = fe.contact_grid_face_extent == "load" ?
-                              contact::MeshCycleSettings::FaceExtent::load :
-                              contact::MeshCycleSettings::FaceExtent::face_width;
-        cs.hertz_exponent = input.hertz_exponent;
-        cs.plane_strain   = dim == 2;
-        cs.max_contact_iterations = static_cast<unsigned int>(fe.contact_max_iterations);
+        auto &cs       = cycle_settings;
+        cs             = fe_contact_grid_settings(input);
+        cs.n_positions = static_cast<unsigned int>(input.positions_per_cycle);
+        cs.n_harmonics = static_cast<unsigned int>(input.harmonics);
+        cs.plane_strain = dim == 2;
         PhaseTimer::Scope scope(timer, "contact over the mesh cycle");
         const auto        t0 = std::chrono::steady_clock::now();
         cycle                = solve_cycle(cs, true);
@@ -1176,6 +1170,20 @@ namespace hertzgear::stiffness
     if (fe.reference_depth_mm > 0)
       return fe.reference_depth_mm;
     return 3.0 * fe_mesh_settings(fe).band_element_size_mm(module_mm);
+  }
+
+  contact::MeshCycleSettings fe_contact_grid_settings(const StiffnessInput &input)
+  {
+    const FeSettings          &fe = input.fe;
+    contact::MeshCycleSettings cs;
+    cs.profile_cells          = static_cast<unsigned int>(fe.contact_grid_profile_cells);
+    cs.face_cells             = static_cast<unsigned int>(fe.contact_grid_face_cells);
+    cs.face_extent            = fe.contact_grid_face_extent == "load" ?
+                                  contact::MeshCycleSettings::FaceExtent::load :
+                                  contact::MeshCycleSettings::FaceExtent::face_width;
+    cs.hertz_exponent         = input.hertz_exponent;
+    cs.max_contact_iterations = static_cast<unsigned int>(fe.contact_max_iterations);
+    return cs;
   }
 
   const StiffnessSource &fe_tca_source() { return the_source<FeTcaSource>(); }

@@ -11,6 +11,7 @@
 // parallel::shared triangulation, so assembly, the solver set-up and the solves are distributed;
 // the compliance tables and the contact solves are replicated, so every rank returns the same
 // result. Only rank 0 writes result files and prints progress.
+#include "contact/mesh_cycle.h"
 #include "meshing/gear_body_mesher.h"
 #include "stiffness/stiffness_source.h"
 
@@ -23,4 +24,9 @@ namespace hertzgear::stiffness
   // or 3 x the element size in the contact band (meshing::MeshSettings::band_element_size_mm).
   // Load patches have radius d/2.
   double fe_reference_depth_mm(const FeSettings &fe, double module_mm);
+
+  // The contact grid of the FE source for a scene's input: cells across the profile and along
+  // the face, the face extent, the Hertz exponent and the contact solver's iteration cap (3D;
+  // the FE stage sets positions, harmonics and plane strain itself).
+  contact::MeshCycleSettings fe_contact_grid_settings(const StiffnessInput &input);
 } // namespace hertzgear::stiffness
