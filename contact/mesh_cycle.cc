@@ -592,8 +592,21 @@ namespace hertzgear::contact
               std::sqrt(value_at_contact_centre(g, b, peak, sol.pressure, [&](const unsigned int k) {
                 return sol.pressure(k) * sol.pressure(k);
               }));
+            // The Hertzian penetration is the vertex of the local displacement, read about the
+            // loaded cell where that displacement is largest. Inside a Hertz contact that is the
+            // peak-pressure cell or its neighbour (the same vertex to the fit's error), but the
+            // pressure can also peak in a single cell at the rim of the contact (a face column
+            // with one or two loaded cells, where the contact ends on the grid), whose local
+            // displacement is far below the centre's: anchored there, the Hertzian part of a
+            // crowned helical pair halved between two loads (docs/theory-tca.md, "What each
+            // position reports").
+            unsigned int deepest = b * n_block;
+            for (unsigned int k = b * n_block; k < (b + 1) * n_block; ++k)
+              if (sol.pressure(k) > 0 &&
+                  (sol.pressure(deepest) <= 0 || local_displacement(k) > local_displacement(deepest)))
+                deepest = k;
             ps.hertz_penetration_mm = value_at_contact_centre(
-              g, b, peak, sol.pressure, [&](const unsigned int k) { return local_displacement(k); }) /
+              g, b, deepest, sol.pressure, [&](const unsigned int k) { return local_displacement(k); }) /
               cos_bb;
             // Semi-axis across the profile from the force per length of the peak's face column,
             // for an elliptical (Hertz) distribution: F' = pi a p0 / 2.

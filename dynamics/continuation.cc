@@ -489,6 +489,46 @@ namespace hertzgear::dynamics
                 continue;
               }
             std::sort(found.begin(), found.end(), [](const Found &a, const Found &b) { return a.s < b.s; });
+            // A fold the branch has passed before: the continuation came back onto its own path
+            // (where a turning point could not be located, its corrected points may follow the
+            // old piece back instead of the new one) and would only repeat it. The same orbit:
+            // the speed within 1e-5 and the state within 1e-3 relative (a fold found twice on a
+            // coarse period map differs by ~1e-7 relative; two folds of different orbits at the
+            // same speed differ in the state by the orbits' difference).
+            for (const auto &f : found)
+              {
+                if (f.p.bifurcation != Bifurcation::fold)
+                  continue;
+                for (std::size_t i = 0; i < branch.points.size(); ++i)
+                  {
+                    const auto &q = branch.points[i];
+                    if (q.bifurcation != Bifurcation::fold ||
+                        std::abs(q.lambda - f.p.lambda) > 1e-5 * std::abs(q.lambda))
+                      continue;
+                    double d2 = 0.0, q2 = 0.0;
+                    for (std::size_t m = 0; m < q.state.size(); ++m)
+                      {
+                        d2 += (q.state[m] - f.p.state[m]) * (q.state[m] - f.p.state[m]);
+                        q2 += q.state[m] * q.state[m];
+                      }
+                    if (d2 > 1e-6 * q2)
+                      continue;
+                    const bool after_unlocated =
+                      !branch.notes.empty() &&
+                      branch.notes.back().text.find("could not be located") != std::string::npos;
+                    branch.end_reason =
+                      msg("the branch came back onto its own path: the fold at ", family.name, " = ",
+                          f.p.lambda, " is the one it passed at point ", i,
+                          after_unlocated ? msg(", after a turning point near ", family.name, " = ",
+                                                branch.notes.back().lambda_from,
+                                                " that could not be located") :
+                                            std::string(),
+                          "; the period map is not integrated accurately enough for this branch "
+                          "(tighten {shooting_relative_tolerance})");
+                    branch.ended_in_failure = true;
+                    return;
+                  }
+              }
             for (const auto &f : found)
               push(f.p);
 

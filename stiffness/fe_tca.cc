@@ -915,20 +915,10 @@ namespace hertzgear::stiffness
         catch (const InputError &e)
           {
             // A step of the discretisation between two rungs is what finer grids or rungs
-            // further apart cure; a crowned helical pair, whose load-share-weighted Hertzian
-            // part can fall where several crowned patches share the load, they do not
-            // (docs/theory-tca.md, "Torque maps and the load ladder").
-            const bool crowned_helical =
-              input.pair.pinion.helix_angle_rad != 0 &&
-              (input.pair.pinion.crowning_mm > 0 || input.pair.gear.crowning_mm > 0);
+            // further apart cure.
             throw NumericalError(msg(e.what(), ". A finer contact grid ({contact_grid_profile_cells}, "
                                                "{contact_grid_face_cells}) or loads further apart "
-                                               "({load_ladder_percent}) resolve a step of the grid",
-                                     crowned_helical ?
-                                       "; on a crowned helical pair the Hertzian part of several "
-                                       "contact patches can fall with the load, and the FE force "
-                                       "law is not available for it yet (docs/theory-tca.md)" :
-                                       ""));
+                                               "({load_ladder_percent}) resolve a step of the grid"));
           }
         return l;
       }

@@ -763,28 +763,79 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
               summary.at("max_mesh_force_N").get<double>() * std::tan(beta_b), 1e-9 * 210e3 / r_b1);
 }
 
-// Requirement (numerical failure): the FE force law's ladder of a crowned helical pair, whose
-// load-share-weighted Hertzian part can fall with the load where several crowned patches share
-// it (docs/theory-tca.md, "Torque maps and the load ladder"), stops the stage with exit 3, a
-// message that names the position and load and says that the FE law is not available for such a
-// pair, no table and no hidden mesh folder left in the output folder. Coarse: 20 um of crowning
-// on both gears at 15 deg, where position 2 falls from 3.49 um at 35 % to 3.16 um at 50 %.
-namespace
+// Requirement: the FE force law serves a crowned helical pair. Its contacts are patches along
+// inclined lines, and on a coarse grid a patch's pressure can peak in a single cell at its rim,
+// far from its centre: the Hertzian part read there fell with the load (20 um of crowning on
+// both gears at 15 deg, coarse: at position 2 from 3.26 um at 35 % to 1.65 um at 50 % of the
+// nominal load for one pair). Read about the loaded cell of largest local displacement
+// (docs/theory-tca.md, "What each position reports") the ladder's approach, its Hertzian part and
+// the structural rest grow with the load at every position and rung, which the table's own
+// check requires too, and the dynamics run on the FE law of that table.
+TEST(StiffnessCli, ACrownedHelicalPairHasTheFeForceLaw)
 {
-  // The crowned helical ladder of the two tests below, run with `launcher`.
-  void expect_crowned_helical_ladder_stopped(const std::string &name, const std::string &launcher)
-  {
-  const fs::path out = fresh_temp_dir(name) / "run";
+  const std::string pair = " --set 'Gear pair/Pinion/crowning_um=20' --set 'Gear pair/Gear/crowning_um=20'"
+                           " --set Stiffness/hertz_exponent=1.5";
+  const fs::path out = fresh_temp_dir("stiffness_crowned_helical");
+  const auto     r   = run_hertzgear("stiffness " + scene_path("paper_helical.prm") +
+                                 " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=8"
+                                 " --set Stiffness/positions_per_cycle=5 --set Stiffness/harmonics=2" + pair +
+                                 " --set Effects/mesh_force_law=fe-map --set Output/write_fields=false --out " +
+                                 out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto table  = nlohmann::json::parse(slurp(out / "stiffness.json"));
+  const auto a      = table.at("load_ladder").at("approach_m").get<std::vector<std::vector<double>>>();
+  const auto a_h    = table.at("load_ladder").at("hertz_approach_m").get<std::vector<std::vector<double>>>();
+  ASSERT_EQ(a.size(), 12u);
+  ASSERT_EQ(a_h.size(), 12u);
+  for (std::size_t j = 1; j < a.size(); ++j)
+    for (std::size_t s = 0; s < a[j].size(); ++s)
+      {
+        EXPECT_GT(a[j][s], a[j - 1][s]) << "approach, rung " << j << ", position " << s;
+        EXPECT_GT(a_h[j][s], a_h[j - 1][s]) << "Hertzian part, rung " << j << ", position " << s;
+        EXPECT_GT(a[j][s] - a_h[j][s], a[j - 1][s] - a_h[j - 1][s]) << "rest, rung " << j << ", position " << s;
+      }
+  const fs::path dyn = fresh_temp_dir("dynamics_crowned_helical_fe_law");
+  const auto     d   = run_hertzgear("dynamics " + scene_path("paper_helical.prm") + pair +
+                               " --set Stiffness/source=table --set Stiffness/table_file=" +
+                               (out / "stiffness.json").string() +
+                               " --set Effects/mesh_force_law=fe-map --set Dynamics/periods=40"
+                               " --set Dynamics/transient_periods=20 --out " + dyn.string());
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_TRUE(fs::exists(dyn / "summary.json"));
+}
+
+// Requirement: on the crowned helical pair of the test above the FE force law reproduces the FE at
+// its rungs (expect_static_consistency (1), tests/support/stiffness_checks.h). A helical pair's
+// contact grid covers the whole face (no load band), so between the rungs the law's error against
+// the FE at that load (2, 3) is measured and printed for docs/theory-tca.md, not required.
+TEST(StiffnessCli, TheCrownedHelicalFeLawIsTheFeAtItsRungs)
+{
+  expect_static_consistency("paper_helical.prm",
+                            " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=8"
+                            " --set Stiffness/positions_per_cycle=5 --set Stiffness/harmonics=2"
+                            " --set 'Gear pair/Pinion/crowning_um=20' --set 'Gear pair/Gear/crowning_um=20'"
+                            " --set Stiffness/hertz_exponent=1.5",
+                            false);
+}
+
+// Requirement (numerical failure under mpirun): a contact solve that does not converge on a
+// helical pair's full-gear bodies on two ranks (one active-set iteration cannot settle a tooth
+// pair's contact) ends both ranks with exit 3, no table and no hidden mesh folder left in the
+// output folder; `timeout` turns a rank that waits forever into exit 124. (Both ranks solve the
+// contact, so each may say so before MPI_Abort ends the other.)
+TEST(StiffnessCliMpi, AContactSolveThatDoesNotConvergeEndsBothRanksCleanly)
+{
+  if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
+    GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
+  const fs::path out = fresh_temp_dir("stiffness_no_convergence_mpi2") / "run";
   const auto     r   = run_hertzgear("stiffness " + scene_path("paper_helical.prm") +
                                  " --set Stiffness/fe_level=0 --set Mesh/face_width_layers=8"
                                  " --set Stiffness/positions_per_cycle=5 --set Stiffness/harmonics=2"
-                                 " --set 'Gear pair/Pinion/crowning_um=20' --set 'Gear pair/Gear/crowning_um=20'"
-                                 " --set Stiffness/hertz_exponent=1.5 --set Effects/mesh_force_law=fe-map"
+                                 " --set Stiffness/contact_max_iterations=1"
                                  " --set Output/write_fields=false --out " + out.string(),
-                                 launcher);
+                                 "timeout 300 mpirun -np 2 --oversubscribe");
   EXPECT_EQ(r.exit_code, 3) << r.err;
-  EXPECT_THAT(r.err, HasSubstr("the Hertzian approach does not grow with the load at position"));
-  EXPECT_THAT(r.err, HasSubstr("on a crowned helical pair"));
+  EXPECT_THAT(r.err, HasSubstr("numerical failure"));
   EXPECT_FALSE(fs::exists(out / "stiffness.json"));
   EXPECT_FALSE(fs::exists(out / "stiffness.csv"));
   if (fs::exists(out))
@@ -792,22 +843,6 @@ namespace
       for (const auto &e : fs::directory_iterator(out))
         EXPECT_THAT(e.path().filename().string(), ::testing::Not(HasSubstr("hg-partial"))) << e.path();
     }
-  }
-} // namespace
-
-TEST(StiffnessCli, ACrownedHelicalLadderThatFallsWithTheLoadStopsCleanly)
-{
-  expect_crowned_helical_ladder_stopped("stiffness_crowned_helical", "");
-}
-
-// The same under mpirun -np 2: the rank that stops first ends both (exit 3, one message) and
-// leaves no hidden mesh folder; `timeout` turns a rank that waits forever into exit 124.
-TEST(StiffnessCliMpi, ACrownedHelicalLadderThatFallsWithTheLoadStopsBothRanksCleanly)
-{
-  if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
-    GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
-  expect_crowned_helical_ladder_stopped("stiffness_crowned_helical_mpi2",
-                                        "timeout 300 mpirun -np 2 --oversubscribe");
 }
 
 // Requirement: beta = 0 reproduces the spur tables, 2D and 3D, to round-off. A spur pair runs
