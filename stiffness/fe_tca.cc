@@ -27,6 +27,8 @@
 #include <memory>
 #include <sstream>
 
+#include <sys/resource.h>
+
 namespace hertzgear::stiffness
 {
   namespace fs = std::filesystem;
@@ -505,6 +507,7 @@ namespace hertzgear::stiffness
       std::unique_ptr<Body>                    bodies[2];
       std::size_t                              n_dofs_total = 0;
       nlohmann::json                           body_notes   = nlohmann::json::object();
+      nlohmann::json                           rank_notes   = nlohmann::json::array(); // full gears
       contact::MeshCycleSettings               cycle_settings;
       contact::MeshCycleResult                 cycle;
       std::vector<contact::MeshCycleResult>    extra_cycles;
@@ -652,6 +655,12 @@ namespace hertzgear::stiffness
             else
               shared[b] = std::make_unique<CyclicBodyModel<3>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
           }
+        // What this rank does, for the per-rank report: its bodies, the wall time it works on
+        // them, and the CPU time of its process (its BLAS threads included) over the stage.
+        const auto   stage_start = std::chrono::steady_clock::now();
+        const double cpu_start   = process_cpu_seconds();
+        double       busy_s      = 0.0;
+        nlohmann::json my_units  = nlohmann::json::array();
         // On two ranks the one that finishes first lends its cores to the other.
         fem::CoreLending lending(MPI_COMM_WORLD);
         processes::agree([&] {
@@ -661,8 +670,11 @@ namespace hertzgear::stiffness
                 if (shared[b]->owner == processes::rank())
                   try
                     {
+                      const auto t0 = std::chrono::steady_clock::now();
                       shared[b]->between_work_units = [&lending] { lending.poll(); };
                       shared[b]->build_and_tabulate();
+                      busy_s += seconds_since(t0);
+                      my_units.push_back(body_name(b));
                     }
                   catch (const fem::PatchOffMeshError &e)
                     {
@@ -688,6 +700,39 @@ namespace hertzgear::stiffness
             body_notes[body_name(b)]["cut_face_dofs"] = cut;
             body_notes[body_name(b)]["rank"]          = b % static_cast<unsigned int>(processes::count());
           }
+        // Per rank: its work units, the wall time it worked on them, its CPU time and the time it
+        // waited (for the other rank's body, for the tables' broadcast), gathered on every rank.
+        const double   stage_s = seconds_since(stage_start);
+        nlohmann::json mine    = {{"rank", processes::rank()},
+                                  {"work_units", my_units},
+                                  {"busy_s", busy_s},
+                                  {"cpu_s", process_cpu_seconds() - cpu_start},
+                                  {"idle_s", std::max(0.0, stage_s - busy_s)}};
+        rank_notes = nlohmann::json::array();
+        for (const auto &text : processes::all_gather(mine.dump()))
+          rank_notes.push_back(nlohmann::json::parse(text));
+        for (const auto &r : rank_notes)
+          {
+            std::ostringstream line;
+            line << "rank " << r["rank"].get<int>() << ": ";
+            if (r["work_units"].empty())
+              line << "no body";
+            for (std::size_t u = 0; u < r["work_units"].size(); ++u)
+              line << (u ? ", " : "") << r["work_units"][u].get<std::string>();
+            line << std::fixed << std::setprecision(2) << "; busy " << r["busy_s"].get<double>()
+                 << " s, CPU " << r["cpu_s"].get<double>() << " s, idle " << r["idle_s"].get<double>()
+                 << " s";
+            progress_line("stiffness", line.str());
+          }
+      }
+
+      // CPU time of this process, every thread (user and system) [s].
+      static double process_cpu_seconds()
+      {
+        rusage u{};
+        getrusage(RUSAGE_SELF, &u);
+        return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+               1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
       }
 
       // The user did not ask for patches; say which settings make the mesh too coarse.
@@ -1023,6 +1068,8 @@ namespace hertzgear::stiffness
         r.notes_key          = "fe";
         auto &m              = r.notes;
         m["bodies"]          = body_notes;
+        if (!rank_notes.empty())
+          m["ranks"] = rank_notes;
         m["dimension"]       = dim;
         m["fe_level"]        = fe.level;
         m["fe_degree"]       = fe.degree;

@@ -539,6 +539,18 @@ TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnFullGears)
   // Each body's fields, written by the rank that holds it.
   EXPECT_TRUE(fs::exists(mpi / "fields" / "pinion_0000.pvtu"));
   EXPECT_TRUE(fs::exists(mpi / "fields" / "gear_0000.pvtu"));
+  // The per-rank report (stiffness.json fe.ranks): each rank's work units, its busy, CPU and idle
+  // time; the pinion on rank 0, the gear on rank 1, each rank busy for part of the stage.
+  const auto ranks = nlohmann::json::parse(slurp(mpi / "stiffness.json"))["fe"]["ranks"];
+  ASSERT_EQ(ranks.size(), 2u) << ranks.dump(1);
+  for (int r = 0; r < 2; ++r)
+    {
+      EXPECT_EQ(ranks[r]["rank"], r);
+      EXPECT_EQ(ranks[r]["work_units"], nlohmann::json::array({r == 0 ? "pinion" : "gear"})) << ranks.dump(1);
+      EXPECT_GT(ranks[r]["busy_s"].get<double>(), 0.0);
+      EXPECT_GT(ranks[r]["cpu_s"].get<double>(), 0.0);
+      EXPECT_GE(ranks[r]["idle_s"].get<double>(), 0.0);
+    }
 }
 
 TEST(StiffnessCliMpi, MoreRanksThanBodiesWarnAndGiveTheSerialTable)
@@ -550,7 +562,13 @@ TEST(StiffnessCliMpi, MoreRanksThanBodiesWarnAndGiveTheSerialTable)
   if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
     GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
   std::string err;
-  serial_and_ranks(" --set Output/write_fields=false", 1e-10, 3, &err);
+  const fs::path mpi = serial_and_ranks(" --set Output/write_fields=false", 1e-10, 3, &err);
+  // The rank without a body reports no work unit and no busy time.
+  const auto ranks = nlohmann::json::parse(slurp(mpi / "stiffness.json"))["fe"]["ranks"];
+  ASSERT_EQ(ranks.size(), 3u) << ranks.dump(1);
+  EXPECT_TRUE(ranks[2]["work_units"].empty()) << ranks.dump(1);
+  EXPECT_EQ(ranks[2]["busy_s"].get<double>(), 0.0);
+  EXPECT_NE(err.find("rank 2: no body"), std::string::npos) << err;
   EXPECT_NE(err.find("warning: 3 ranks, but the FE work of a pair on full gears is its two bodies"),
             std::string::npos)
     << err;
@@ -723,6 +741,10 @@ TEST(StiffnessCli, AHelicalPairRunsOnTheFeStageAndItsTableDrivesTheDynamics)
   // A helical pair's grid covers the whole face whatever Stiffness/contact_grid_face_extent says
   // (its default is load): the table records no load band.
   EXPECT_FALSE(table.at("fe").at("contact_grid").contains("face_extent")) << table.at("fe").at("contact_grid");
+  // One process does both bodies (the per-rank report, fe.ranks).
+  const auto &ranks = table.at("fe").at("ranks");
+  ASSERT_EQ(ranks.size(), 1u) << ranks.dump(1);
+  EXPECT_EQ(ranks[0]["work_units"], nlohmann::json::array({"pinion", "gear"})) << ranks.dump(1);
   const auto rows = csv_rows(out / "stiffness.csv");
   ASSERT_EQ(rows.size(), 5u);
   for (const auto &row : rows)
