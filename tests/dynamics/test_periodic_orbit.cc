@@ -258,7 +258,7 @@ TEST(PeriodicOrbit, MultipleShootingFindsTheSameOrbit)
     EXPECT_NEAR(single.state[i], multiple.state[i], 1e-9 * scale[i]);
   EXPECT_NEAR(std::abs(single.multipliers[0]), std::abs(multiple.multipliers[0]), 1e-7);
 
-  // Both stable orbits coexist between the table's two folds (14 963 and 15 996 rpm on the serial
+  // Both stable orbits coexist between the table's two folds (14 958 and 15 996 rpm on the serial
   // law, docs/paper-reproduction.md), so this part runs at 15 500 rpm, where the contact-losing
   // orbit is found from the single-shooting orbit of 16 000 rpm.
   auto p_mid                     = p;
