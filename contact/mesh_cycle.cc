@@ -570,13 +570,18 @@ namespace hertzgear::contact
         PairState ps;
         ps.pair    = g.pairs[b];
         ps.roll_mm = g.roll_mm[b];
-        unsigned int peak = b * n_block;
+        // The cell of largest pressure, and the loaded cell of largest local displacement (the
+        // deepest; where the Hertzian penetration is read, below).
+        unsigned int peak = b * n_block, deepest = b * n_block;
         double       normal_force = 0; // on the flanks; its transverse part is the load's measure
         for (unsigned int k = b * n_block; k < (b + 1) * n_block; ++k)
           {
             normal_force += sol.pressure(k) * g.area(k);
             if (sol.pressure(k) > sol.pressure(peak))
               peak = k;
+            if (sol.pressure(k) > 0 &&
+                (sol.pressure(deepest) <= 0 || local_displacement(k) > local_displacement(deepest)))
+              deepest = k;
           }
         ps.force_N    = normal_force * cos_bb;
         ps.load_share = ps.force_N / load_N;
@@ -600,11 +605,6 @@ namespace hertzgear::contact
             // displacement is far below the centre's: anchored there, the Hertzian part of a
             // crowned helical pair halved between two loads (docs/theory-tca.md, "What each
             // position reports").
-            unsigned int deepest = b * n_block;
-            for (unsigned int k = b * n_block; k < (b + 1) * n_block; ++k)
-              if (sol.pressure(k) > 0 &&
-                  (sol.pressure(deepest) <= 0 || local_displacement(k) > local_displacement(deepest)))
-                deepest = k;
             ps.hertz_penetration_mm = value_at_contact_centre(
               g, b, deepest, sol.pressure, [&](const unsigned int k) { return local_displacement(k); }) /
               cos_bb;
