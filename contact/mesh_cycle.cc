@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 namespace hertzgear::contact
 {
@@ -682,12 +683,30 @@ namespace hertzgear::contact
     return r;
   }
 
+  double MeshCycle::phase_of_position(const unsigned int i) const
+  {
+    return static_cast<double>(i) / settings.n_positions;
+  }
+
   MeshCycleResult
   MeshCycle::run(const double load_N,
                  const std::function<void(unsigned int, const PositionResult &)> &progress) const
   {
-    HG_REQUIRE_INPUT(load_N > 0, "the mesh load must be positive ({torque_Nm} > 0), got ",
-                     load_N, " N");
+    std::vector<PositionResult> positions;
+    for (unsigned int i = 0; i < settings.n_positions; ++i)
+      {
+        positions.push_back(solve_position(phase_of_position(i), load_N));
+        if (progress)
+          progress(i, positions.back());
+      }
+    return assemble(load_N, std::move(positions));
+  }
+
+  MeshCycleResult MeshCycle::assemble(const double load_N, std::vector<PositionResult> positions) const
+  {
+    if (positions.size() != settings.n_positions)
+      throw std::logic_error(msg("a mesh cycle of ", settings.n_positions,
+                                 " positions cannot be assembled from ", positions.size()));
     MeshCycleResult result;
     result.load_N = load_N;
     result.band_half_width_mm = band_half_width(load_N);
@@ -695,21 +714,17 @@ namespace hertzgear::contact
     result.face_band_min_mm   = face.min_mm;
     result.face_band_max_mm   = face.max_mm;
     result.face_band_follows_load = face_band_follows_load();
+    result.positions              = std::move(positions);
 
     std::vector<double> phase, k_h, k_t, ste;
     double              k_rest_sum = 0;
-    for (unsigned int i = 0; i < settings.n_positions; ++i)
+    for (const auto &p : result.positions)
       {
-        const double tau = static_cast<double>(i) / settings.n_positions;
-        result.positions.push_back(solve_position(tau, load_N));
-        const auto &p = result.positions.back();
-        phase.push_back(tau);
+        phase.push_back(p.mesh_phase);
         k_h.push_back(p.k_hertz);
         k_t.push_back(p.k_total_secant_N_per_mm);
         ste.push_back(p.ste_mm);
         k_rest_sum += p.k_rest_N_per_mm;
-        if (progress)
-          progress(i, p);
       }
     result.k_hertz              = fit_fourier_series(phase, k_h, settings.n_harmonics);
     result.k_total              = fit_fourier_series(phase, k_t, settings.n_harmonics);

@@ -129,6 +129,15 @@ namespace hertzgear::contact
     double contact_a_mm    = 0; // semi-axis across the profile (on the flank)
     double contact_b_mm    = 0; // semi-axis along the face width (on the flank)
     double peak_pressure_MPa = 0;
+
+    // Every member, for the transfer of solved positions between processes (boost::serialization
+    // archives; the FE stage shares a cycle's positions out over its ranks).
+    template <class Archive>
+    void serialize(Archive &ar, const unsigned int /*version*/)
+    {
+      ar &pair &roll_mm &force_N &load_share &hertz_penetration_mm &contact_a_mm &contact_b_mm
+        &peak_pressure_MPa;
+    }
   };
 
   struct PositionResult
@@ -164,6 +173,18 @@ namespace hertzgear::contact
     // pinion tooth is +pair, the gear tooth -pair) and its area on the flank [mm^2] (du dz /
     // cos(beta_b)); the cell pressures are normal to the flank, sum p A = load / cos(beta_b).
     std::vector<double> cell_pinion_roll_mm, cell_gear_roll_mm, cell_area_mm2;
+
+    // Every member, as PairState::serialize.
+    template <class Archive>
+    void serialize(Archive &ar, const unsigned int /*version*/)
+    {
+      ar &mesh_phase &ste_mm &unloaded_ste_mm &approach_mm &k_total_secant_N_per_mm
+        &k_total_tangent_N_per_mm &hertz_penetration_mm &k_hertz &k_rest_N_per_mm
+          &contact_centre_z_mm &face_end_contact &face_band_min_mm &face_band_max_mm
+            &face_band_enlargements &tip_contact &pairs &n_cells &n_active &n_iterations &cell_pair
+              &cell_u_mm &cell_z_mm &cell_pressure_MPa &cell_pinion_roll_mm &cell_gear_roll_mm
+                &cell_area_mm2;
+    }
   };
 
   struct MeshCycleResult
@@ -191,8 +212,14 @@ namespace hertzgear::contact
     run(double load_N,
         const std::function<void(unsigned int, const PositionResult &)> &progress = {}) const;
 
-    // One mesh position (public for tests).
+    // One mesh position: run() solves position i at phase_of_position(i).
     PositionResult solve_position(double mesh_phase, double load_N) const;
+    double         phase_of_position(unsigned int i) const;
+    // The cycle at `load_N` from its solved positions (positions[i] at phase_of_position(i)):
+    // the Fourier fits and the grid's extent. run() is solve_position at every position, then
+    // assemble; a caller that shares the positions out over processes solves them where it likes
+    // and assembles the same result from them.
+    MeshCycleResult assemble(double load_N, std::vector<PositionResult> positions) const;
 
     // Half-width of the contact band across the profile [mm] at this load.
     double band_half_width(double load_N) const;

@@ -69,18 +69,35 @@ namespace hertzgear::fem
 
   void CoreLending::poll()
   {
-    if (partner < 0 || finished || took_cores || !test_partner())
+    if (partner < 0 || finished || took_cores || given_back || !test_partner())
       return;
     took_cores = set_blas_threads(all_threads);
+  }
+
+  void CoreLending::give_back()
+  {
+    if (partner < 0 || given_back)
+      return;
+    given_back = true;
+    if (took_cores)
+      set_blas_threads(own_threads);
+  }
+
+  void CoreLending::announce()
+  {
+    if (partner < 0 || announced)
+      return;
+    announced     = true;
+    const int one = 1;
+    MPI_Send(&one, 1, MPI_INT, partner, done_tag, comm); // one int: sent eagerly
   }
 
   void CoreLending::finish()
   {
     if (partner < 0 || finished)
       return;
+    announce();
     finished = true;
-    const int one = 1;
-    MPI_Send(&one, 1, MPI_INT, partner, done_tag, comm); // one int: sent eagerly
     while (!test_partner())
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     set_blas_threads(own_threads);

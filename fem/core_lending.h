@@ -29,9 +29,14 @@ namespace hertzgear::fem
 
     // Between units of this rank's own work: once the partner has finished, take its cores.
     void poll();
-    // This rank's own work is done (or failed): tell the partner, wait for it, and go back to
-    // this rank's share of the cores.
+    // This rank's own work is done (or failed): tell the partner (announce, once), wait for it,
+    // and go back to this rank's share of the cores (finish). A rank may announce first and do
+    // other work before it finishes (help the partner's body, fem/harmonic_sharing.h).
+    void announce();
     void finish();
+    // Back to this rank's share of the cores for good (the partner works for this rank's body
+    // itself, with its own cores).
+    void give_back();
 
     // Whether this rank took the partner's cores before it finished (for the progress lines).
     bool borrowed() const { return took_cores; }
@@ -42,7 +47,8 @@ namespace hertzgear::fem
     int         own_threads = 0, all_threads = 0;
     MPI_Request request    = MPI_REQUEST_NULL;
     int         message    = 0;
-    bool        partner_done = false, finished = false, took_cores = false;
+    bool        partner_done = false, announced = false, finished = false, took_cores = false,
+                given_back = false;
 
     bool test_partner();
   };

@@ -1,11 +1,11 @@
 #include "fem/cyclic_gear_body.h"
 
 #include "common/errors.h"
+#include "fem/harmonic_sharing.h"
 #include "fem/petsc_ksp.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_tools.h>
-#include <deal.II/lac/lapack_templates.h>
 
 #include <Eigen/Sparse>
 
@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <deque>
 
 namespace hertzgear::fem
 {
@@ -293,31 +294,39 @@ namespace hertzgear::fem
     const MPI_Comm comm  = parameters.harmonic_communicator;
     const int      rank  = static_cast<int>(Utilities::MPI::this_mpi_process(comm));
     const int      ranks = static_cast<int>(Utilities::MPI::n_mpi_processes(comm));
-    Eigen::MatrixXcd H(n, n), x(n, m);
+    std::deque<int> todo;
     for (int k = rank; k <= N / 2; k += ranks)
+      if (only_harmonic < 0 || k == only_harmonic)
+        todo.push_back(k);
+    // Harmonics not started yet may go to helper processes (fem/harmonic_sharing.h).
+    HarmonicSharing *sharing =
+      only_harmonic < 0 && ranks == 1 && parameters.harmonic_sharing ? parameters.harmonic_sharing() : nullptr;
+    try
       {
-        if (only_harmonic >= 0 && k != only_harmonic)
-          continue;
-        if (parameters.between_work_units)
-          parameters.between_work_units();
-        const std::complex<double> w = std::polar(1.0, 2.0 * M_PI * k / N);
-        H = D.cast<std::complex<double>>() + w * E.cast<std::complex<double>>() +
-            std::conj(w) * E.transpose().cast<std::complex<double>>();
-        x.setZero();
-        for (const auto &[s, qs] : q)
-          x += std::polar(1.0 / N, -2.0 * M_PI * k * s / N) * qs.template cast<std::complex<double>>();
-        const types::blas_int nn = static_cast<types::blas_int>(n), mm = static_cast<types::blas_int>(m);
-        types::blas_int       info = 0;
-        potrf("L", &nn, H.data(), &nn, &info);
-        HG_REQUIRE_NUMERIC(info == 0, "cyclic harmonic ", k, " of ", N,
-                           ": the cut-face matrix is not positive definite (zpotrf info ", info, ")");
-        potrs("L", &nn, &mm, H.data(), &nn, x.data(), &nn, &info);
-        HG_REQUIRE_NUMERIC(info == 0, "cyclic harmonic ", k, ": zpotrs info ", info);
-        // u_s = sum over all N harmonics; k and N - k are complex conjugates.
-        const double weight = (k == 0 || 2 * k == N) ? 1.0 : 2.0;
-        for (int s = s_min; s <= s_max; ++s)
-          u[s] += weight * (x * std::polar(1.0, 2.0 * M_PI * k * s / N)).real();
+        while (!todo.empty())
+          {
+            if (parameters.between_work_units)
+              parameters.between_work_units();
+            if (sharing)
+              sharing->lend(parameters.sharing_body, todo, N, D, E, q, s_min, s_max);
+            const int k = todo.front();
+            todo.pop_front();
+            add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u);
+          }
       }
+    catch (...)
+      {
+        if (sharing)
+          try
+            {
+              sharing->collect(parameters.sharing_body, u); // the helpers' results, then this failure
+            }
+          catch (...)
+            {}
+        throw;
+      }
+    if (sharing)
+      sharing->collect(parameters.sharing_body, u);
     if (ranks > 1)
       for (auto &[s, us] : u)
         Utilities::MPI::sum(ArrayView<const double>(us.data(), us.size()), comm,

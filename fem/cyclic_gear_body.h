@@ -20,7 +20,9 @@
 // K_II^-1 (f_I - K_Ic u_c). Exact to round-off, at the memory of one tooth and one cut face.
 //
 // The harmonics are independent: with a communicator of P processes each factorises the
-// harmonics k = rank, rank + P, ... and the interface displacements are summed (MPI_Allreduce).
+// harmonics k = rank, rank + P, ... and the interface displacements are summed (MPI_Allreduce);
+// or helper processes that hold no sector take the harmonics this one has not started
+// (fem/harmonic_sharing.h).
 #include "fem/body_compliance.h"
 #include "fem/elastic_body.h"
 
@@ -38,6 +40,8 @@
 
 namespace hertzgear::fem
 {
+  class HarmonicSharing;
+
   template <int dim>
   class CyclicGearBody : public BodyCompliance<dim>
   {
@@ -59,6 +63,11 @@ namespace hertzgear::fem
       // Called between units of work (a block of interior solves, a cyclic harmonic): the FE
       // stage lends the cores of a rank that has finished its own body here (CoreLending).
       std::function<void()> between_work_units;
+      // Helper processes that take harmonics this process has not started (under mpirun, a rank
+      // without a body of its own; fem/harmonic_sharing.h), and this body's index among the
+      // bodies they help; no sharing when it is empty or returns null.
+      std::function<HarmonicSharing *()> harmonic_sharing;
+      int                                sharing_body = 0;
     };
 
     // `sector`: a serial triangulation of one tooth centred on +x (the tooth at polar angle 0),

@@ -9,6 +9,7 @@
 #include "fem/core_lending.h"
 #include "fem/cyclic_gear_body.h"
 #include "fem/flank_compliance.h"
+#include "fem/harmonic_sharing.h"
 #include "common/processes.h"
 #include "meshing/pair_kinematics.h"
 
@@ -182,6 +183,9 @@ namespace hertzgear::stiffness
       int    owner     = 0;
       double wall_s    = 0; // building and tabulating, on the owner
       std::function<void()> between_work_units; // on the owner, between its units of work
+      // Helpers of its harmonics while it is built (null: none), and its index among the bodies.
+      fem::HarmonicSharing *sharing      = nullptr;
+      int                   sharing_body = 0;
       virtual std::size_t n_cut_face_dofs() const = 0;
       virtual void build_and_tabulate() = 0; // on the owner
       virtual void share()              = 0; // collective
@@ -231,6 +235,8 @@ namespace hertzgear::stiffness
           if (between_work_units)
             between_work_units();
         };
+        p.harmonic_sharing = [this] { return sharing; };
+        p.sharing_body     = sharing_body;
         body = std::make_unique<fem::CyclicGearBody<dim>>(sector, p);
         // The sector's one tooth (tooth 0 of its mesh) carries every load, turned into it.
         body->set_load_boundary_ids({static_cast<dealii::types::boundary_id>(tag::drive_flank)});
@@ -477,6 +483,8 @@ namespace hertzgear::stiffness
         processes::agree([&] { fs::create_directories(fe.mesh_dir); }, true);
         for (unsigned int b = 0; b < 2; ++b)
           make_mesh(b);
+        fe_start     = std::chrono::steady_clock::now();
+        fe_cpu_start = process_cpu_seconds();
         if (full_gear_model())
           make_full_gear_bodies();
         else
@@ -486,6 +494,7 @@ namespace hertzgear::stiffness
         solve_extra_contact_grids();
         solve_map();
         solve_load_ladder();
+        report_ranks();
         if (!fe.fields_dir.empty())
           write_fields();
         return fit();
@@ -507,7 +516,15 @@ namespace hertzgear::stiffness
       std::unique_ptr<Body>                    bodies[2];
       std::size_t                              n_dofs_total = 0;
       nlohmann::json                           body_notes   = nlohmann::json::object();
-      nlohmann::json                           rank_notes   = nlohmann::json::array(); // full gears
+      nlohmann::json                           rank_notes   = nlohmann::json::array();
+      // This rank's share of the FE stage (after the meshes), for the per-rank report.
+      std::chrono::steady_clock::time_point    fe_start;
+      double                                   fe_cpu_start   = 0;
+      nlohmann::json                           my_bodies      = nlohmann::json::array();
+      nlohmann::json                           harmonics_helped = nlohmann::json::object(); // body -> count
+      double                                   body_busy_s    = 0;
+      double                                   contact_busy_s = 0;
+      std::size_t                              contact_positions = 0;
       contact::MeshCycleSettings               cycle_settings;
       contact::MeshCycleResult                 cycle;
       std::vector<contact::MeshCycleResult>    extra_cycles;
@@ -630,6 +647,8 @@ namespace hertzgear::stiffness
             throw ParameterError("level", too_coarse_message(b, s, e.what()));
           }
         n_dofs_total += bodies[b]->n_dofs();
+        body_busy_s += seconds_since(t0);
+        my_bodies.push_back(processes::count() > 1 ? name + " (every rank)" : name);
         report_body(b, s, seconds_since(t0));
       }
 
@@ -637,12 +656,13 @@ namespace hertzgear::stiffness
       void make_full_gear_bodies()
       {
         PhaseTimer::Scope           scope(timer, "FE compliance (full gears)");
-        // The pair's FE work is its two bodies, one rank each: further ranks wait for them.
+        // A pair's FE bodies are two work units, one rank each: further ranks help with their
+        // harmonics, and then share the contact positions with the others.
         if (processes::count() > 2)
-          progress_line("stiffness", msg("warning: ", processes::count(), " ranks, but the FE work of a pair on full "
-                                         "gears is its two bodies, one rank each: ranks 2 to ",
-                                         processes::count() - 1, " wait for them (docs/accuracy-stiffness.md, "
-                                         "\"MPI: what runs where\")"));
+          progress_line("stiffness", msg("warning: ", processes::count(), " ranks, but a pair on full gears has two "
+                                         "bodies, each built by one rank: ranks 2 to ", processes::count() - 1,
+                                         " only help with their harmonics, then share the contact positions "
+                                         "(docs/accuracy-stiffness.md, \"MPI: what runs where\")"));
         fem::FlankTableSettings     s[2];
         std::unique_ptr<SharedBody> shared[2];
         for (unsigned int b = 0; b < 2; ++b)
@@ -655,15 +675,26 @@ namespace hertzgear::stiffness
             else
               shared[b] = std::make_unique<CyclicBodyModel<3>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
           }
-        // What this rank does, for the per-rank report: its bodies, the wall time it works on
-        // them, and the CPU time of its process (its BLAS threads included) over the stage.
-        const auto   stage_start = std::chrono::steady_clock::now();
-        const double cpu_start   = process_cpu_seconds();
-        double       busy_s      = 0.0;
-        nlohmann::json my_units  = nlohmann::json::array();
-        // On two ranks the one that finishes first lends its cores to the other.
-        fem::CoreLending lending(MPI_COMM_WORLD);
+        // On two ranks the one that finishes first lends its cores to the other until that one
+        // hands out harmonics to it. Ranks without a body help with the harmonics from the start
+        // (the gear with more teeth, more harmonics, first), and a rank whose body is done helps
+        // the other's (fem/harmonic_sharing.h).
+        fem::CoreLending              lending(MPI_COMM_WORLD);
+        std::vector<int>              owners = {shared[0]->owner, shared[1]->owner};
+        std::vector<std::vector<int>> helpers(2);
+        const unsigned int            more_teeth = kin->body(1).n_teeth() >= kin->body(0).n_teeth() ? 1 : 0;
+        for (int r = 2; r < processes::count(); ++r)
+          {
+            helpers[more_teeth].push_back(r);
+            helpers[1 - more_teeth].push_back(r);
+          }
+        fem::HarmonicSharing sharing(MPI_COMM_WORLD, owners, helpers, [&lending](int) { lending.give_back(); });
         processes::agree([&] {
+          const auto end_of_own_work = [&] {
+            lending.announce(); // the partner may take this rank's cores ...
+            sharing.finish();   // ... until it hands out harmonics to it
+            lending.finish();   // the partner waits for this rank's word before any collective
+          };
           try
             {
               for (unsigned int b = 0; b < 2; ++b)
@@ -672,9 +703,11 @@ namespace hertzgear::stiffness
                     {
                       const auto t0 = std::chrono::steady_clock::now();
                       shared[b]->between_work_units = [&lending] { lending.poll(); };
+                      shared[b]->sharing            = &sharing;
+                      shared[b]->sharing_body       = static_cast<int>(b);
                       shared[b]->build_and_tabulate();
-                      busy_s += seconds_since(t0);
-                      my_units.push_back(body_name(b));
+                      body_busy_s += seconds_since(t0);
+                      my_bodies.push_back(body_name(b));
                     }
                   catch (const fem::PatchOffMeshError &e)
                     {
@@ -683,14 +716,18 @@ namespace hertzgear::stiffness
             }
           catch (...)
             {
-              lending.finish(); // the partner waits for this rank's word before any collective
+              end_of_own_work();
               throw;
             }
-          lending.finish();
+          end_of_own_work();
         });
+        for (const auto &[b, count] : sharing.harmonics_helped())
+          harmonics_helped[body_name(static_cast<unsigned int>(b))] = count;
+        body_busy_s += sharing.helping_busy_s();
         for (unsigned int b = 0; b < 2; ++b)
           {
             shared[b]->between_work_units = nullptr; // `lending` ends here; later solves poll no one
+            shared[b]->sharing            = nullptr; // and `sharing`: the fields' harmonics stay here
             shared[b]->share();
             const double      wall = shared[b]->wall_s;
             const std::size_t cut = shared[b]->n_cut_face_dofs();
@@ -700,14 +737,26 @@ namespace hertzgear::stiffness
             body_notes[body_name(b)]["cut_face_dofs"] = cut;
             body_notes[body_name(b)]["rank"]          = b % static_cast<unsigned int>(processes::count());
           }
-        // Per rank: its work units, the wall time it worked on them, its CPU time and the time it
-        // waited (for the other rank's body, for the tables' broadcast), gathered on every rank.
-        const double   stage_s = seconds_since(stage_start);
+      }
+
+      // Per rank, gathered on every rank and printed: its work units (the bodies it built, the
+      // harmonics of other ranks' bodies and the contact positions it solved), the wall time it
+      // worked on them, the CPU time of its process over the FE stage (its BLAS threads
+      // included), the rest of the stage, in which it waited (for another rank's body, for the
+      // tables' broadcast, for the exchange of positions), and its peak memory. A body of the
+      // sector model is built by every rank together.
+      void report_ranks()
+      {
+        const double   stage_s = seconds_since(fe_start);
+        const double   busy_s  = body_busy_s + contact_busy_s;
         nlohmann::json mine    = {{"rank", processes::rank()},
-                                  {"work_units", my_units},
+                                  {"work_units", my_bodies},
+                                  {"harmonics_helped", harmonics_helped},
+                                  {"contact_positions", contact_positions},
                                   {"busy_s", busy_s},
-                                  {"cpu_s", process_cpu_seconds() - cpu_start},
-                                  {"idle_s", std::max(0.0, stage_s - busy_s)}};
+                                  {"cpu_s", process_cpu_seconds() - fe_cpu_start},
+                                  {"idle_s", std::max(0.0, stage_s - busy_s)},
+                                  {"peak_memory_GiB", process_peak_memory_GiB()}};
         rank_notes = nlohmann::json::array();
         for (const auto &text : processes::all_gather(mine.dump()))
           rank_notes.push_back(nlohmann::json::parse(text));
@@ -719,11 +768,23 @@ namespace hertzgear::stiffness
               line << "no body";
             for (std::size_t u = 0; u < r["work_units"].size(); ++u)
               line << (u ? ", " : "") << r["work_units"][u].get<std::string>();
-            line << std::fixed << std::setprecision(2) << "; busy " << r["busy_s"].get<double>()
-                 << " s, CPU " << r["cpu_s"].get<double>() << " s, idle " << r["idle_s"].get<double>()
-                 << " s";
+            for (const auto &[body, count] : r["harmonics_helped"].items())
+              line << ", " << count.get<int>() << (count.get<int>() == 1 ? " harmonic" : " harmonics") << " of the "
+                   << body;
+            line << ", " << r["contact_positions"].get<std::size_t>() << " contact position" << (r["contact_positions"].get<std::size_t>() == 1 ? "" : "s") << std::fixed
+                 << std::setprecision(2) << "; busy " << r["busy_s"].get<double>() << " s, CPU "
+                 << r["cpu_s"].get<double>() << " s, idle " << r["idle_s"].get<double>() << " s, peak memory "
+                 << r["peak_memory_GiB"].get<double>() << " GiB";
             progress_line("stiffness", line.str());
           }
+      }
+
+      // Peak resident memory of this process so far [GiB] (ru_maxrss, kB on Linux).
+      static double process_peak_memory_GiB()
+      {
+        rusage u{};
+        getrusage(RUSAGE_SELF, &u);
+        return double(u.ru_maxrss) / (1024.0 * 1024.0);
       }
 
       // CPU time of this process, every thread (user and system) [s].
@@ -786,14 +847,42 @@ namespace hertzgear::stiffness
         return bodies[b]->compliance();
       }
 
-      contact::MeshCycleResult solve_cycle(const contact::MeshCycleSettings &cs, const bool progress) const
+      // A contact cycle of a stage: its kinematics, grid settings and load [N].
+      struct CycleJob
       {
-        return solve_cycle(cs, *kin, load_N, progress);
-      }
+        const meshing::PairKinematics *kinematics = nullptr;
+        contact::MeshCycleSettings     settings;
+        double                         load_N = 0;
+      };
 
-      contact::MeshCycleResult solve_cycle(const contact::MeshCycleSettings &cs,
-                                           const meshing::PairKinematics &kinematics,
-                                           const double load, const bool progress) const
+      // Solved positions of one rank, for the exchange between ranks.
+      struct SolvedPositions
+      {
+        std::vector<contact::PositionResult> positions;
+        std::vector<double>                  seconds; // wall time of each solve
+
+        template <class Archive>
+        void serialize(Archive &ar, const unsigned int /*version*/)
+        {
+          ar &positions &seconds;
+        }
+      };
+
+      // The contact cycles of a stage on the shared FE bodies, their positions shared out over the
+      // ranks: position k of the stage (counted cycle by cycle) is solved by rank k mod P, and
+      // every rank then receives every position (docs/accuracy-stiffness.md, "MPI: what runs
+      // where"). A position's solve is the same code on the same compliances whichever rank runs
+      // it, and every rank assembles each cycle from the same positions: the cycles do not depend
+      // on P. `done(c, cycle, work_s)` is called on every rank for every cycle in order, work_s
+      // the sum of its positions' solve times: with one rank as soon as the cycle is solved, on
+      // several after the exchange. `position_line(c, i, p, s, rank)` is called on rank 0 for each
+      // position it solves, and after the exchange for the other ranks' positions; without it, a
+      // stage of several cycles on several ranks shows its progress by a line of rank 0 per cycle
+      // (`label(c)`) when rank 0 has solved its part of it.
+      void solve_cycles(const std::function<std::string(std::size_t)> &label, const std::vector<CycleJob> &jobs,
+                        const std::function<void(std::size_t, const contact::MeshCycleResult &, double)> &done,
+                        const std::function<void(std::size_t, unsigned int, const contact::PositionResult &,
+                                                 double, int)> &position_line = {})
       {
         // Decoupled teeth: the study of what the coupling of loaded teeth does.
         const contact::DecoupledFlankCompliance decoupled_pinion(compliance(0)), decoupled_gear(compliance(1));
@@ -801,34 +890,94 @@ namespace hertzgear::stiffness
           fe.decoupled_teeth ? static_cast<const contact::FlankCompliance &>(decoupled_pinion) : compliance(0);
         const contact::FlankCompliance &c1 =
           fe.decoupled_teeth ? static_cast<const contact::FlankCompliance &>(decoupled_gear) : compliance(1);
-        const contact::MeshCycle mesh_cycle(kinematics, input.pinion_material, input.gear_material, c0, c1, cs);
-        auto result = progress ? cycle_with_progress(mesh_cycle, cs, load) : mesh_cycle.run(load);
-        // The load face band is sized from Hertz; say where the contact outgrew it.
-        const auto enlarged = std::count_if(result.positions.begin(), result.positions.end(),
-                                            [](const auto &p) { return p.face_band_enlargements > 0; });
-        if (enlarged > 0)
-          progress_line("stiffness", msg("note: at ", load, " N the contact grid's face band was enlarged at ",
-                                         enlarged, " of ", result.positions.size(),
-                                         " positions (the contact outgrew ", cs.face_band_semi_axes,
-                                         " Hertz semi-axes along the face)"));
-        return result;
-      }
+        std::vector<std::unique_ptr<contact::MeshCycle>> cycles;
+        std::vector<std::size_t>                         first; // flat index of each cycle's position 0
+        std::size_t                                      n_total = 0;
+        for (const auto &job : jobs)
+          {
+            cycles.push_back(std::make_unique<contact::MeshCycle>(*job.kinematics, input.pinion_material,
+                                                                  input.gear_material, c0, c1, job.settings));
+            first.push_back(n_total);
+            n_total += job.settings.n_positions;
+          }
+        const auto P    = static_cast<std::size_t>(processes::count());
+        const auto me   = static_cast<std::size_t>(processes::rank());
+        if (P > n_total)
+          progress_line("stiffness", msg("warning: ", P, " ranks for the ", n_total, " contact positions of ",
+                                         jobs.size() == 1 ? label(0) : msg(label(0), " .. ", label(jobs.size() - 1)),
+                                         ": ranks ", n_total, " to ", P - 1, " have none"));
+        const auto t0   = std::chrono::steady_clock::now();
+        const auto finish = [&](const std::size_t c, std::vector<contact::PositionResult> positions,
+                                const double work_s) {
+          auto result = cycles[c]->assemble(jobs[c].load_N, std::move(positions));
+          // The load face band is sized from Hertz; say where the contact outgrew it.
+          const auto enlarged = std::count_if(result.positions.begin(), result.positions.end(),
+                                              [](const auto &p) { return p.face_band_enlargements > 0; });
+          if (enlarged > 0)
+            progress_line("stiffness", msg("note: at ", jobs[c].load_N, " N the contact grid's face band was "
+                                           "enlarged at ", enlarged, " of ", result.positions.size(),
+                                           " positions (the contact outgrew ", jobs[c].settings.face_band_semi_axes,
+                                           " Hertz semi-axes along the face)"));
+          done(c, result, work_s);
+        };
 
-      contact::MeshCycleResult cycle_with_progress(const contact::MeshCycle &mesh_cycle,
-                                                   const contact::MeshCycleSettings &cs, const double load) const
-      {
-        auto t0 = std::chrono::steady_clock::now();
-        return mesh_cycle.run(load, [&](unsigned int i, const contact::PositionResult &p) {
-          std::ostringstream line;
-          line << "position " << i + 1 << "/" << cs.n_positions << "  phase " << std::fixed
-               << std::setprecision(3) << p.mesh_phase << "  STE " << std::setprecision(3)
-               << p.ste_mm * 1e3 << " um  k_total " << std::setprecision(1)
-               << p.k_total_secant_N_per_mm * 1e-3 << " N/um  pairs " << p.pairs.size()
-               << "  active cells " << p.n_active << "/" << p.n_cells << "  ("
-               << std::setprecision(2) << seconds_since(t0) << " s)";
-          progress_line("stiffness", line.str());
-          t0 = std::chrono::steady_clock::now();
+        // This rank's positions, in order; a failure on any rank ends every rank with it.
+        SolvedPositions mine;
+        processes::agree([&] {
+          std::vector<contact::PositionResult> cycle_positions;
+          double                               cycle_work_s = 0;
+          for (std::size_t c = 0; c < jobs.size(); ++c)
+            {
+              std::size_t solved_here = 0;
+              double      here_s      = 0;
+              for (unsigned int i = 0; i < jobs[c].settings.n_positions; ++i)
+                {
+                  if ((first[c] + i) % P != me)
+                    continue;
+                  const auto start = std::chrono::steady_clock::now();
+                  auto       p     = cycles[c]->solve_position(cycles[c]->phase_of_position(i), jobs[c].load_N);
+                  const double s   = seconds_since(start);
+                  ++solved_here;
+                  here_s += s;
+                  if (position_line && me == 0)
+                    position_line(c, i, p, s, 0);
+                  mine.positions.push_back(std::move(p));
+                  mine.seconds.push_back(s);
+                }
+              if (P == 1)
+                {
+                  // One rank: the cycle is complete.
+                  cycle_positions.assign(mine.positions.end() - jobs[c].settings.n_positions, mine.positions.end());
+                  cycle_work_s = here_s;
+                  finish(c, std::move(cycle_positions), cycle_work_s);
+                }
+              else if (me == 0 && !position_line && jobs.size() > 1)
+                progress_line("stiffness", msg(label(c), ": ", solved_here, " of its ",
+                                               jobs[c].settings.n_positions, " positions solved on rank 0 (",
+                                               std::fixed, std::setprecision(2), here_s, " s)"));
+            }
         });
+        contact_busy_s += seconds_since(t0);
+        contact_positions += mine.positions.size();
+        if (P == 1)
+          return;
+
+        // Every rank's positions on every rank; position k is the (k div P)-th of rank k mod P.
+        const auto all = dealii::Utilities::MPI::all_gather(MPI_COMM_WORLD, mine);
+        for (std::size_t c = 0; c < jobs.size(); ++c)
+          {
+            std::vector<contact::PositionResult> positions;
+            double                               work_s = 0;
+            for (unsigned int i = 0; i < jobs[c].settings.n_positions; ++i)
+              {
+                const std::size_t k = first[c] + i, r = k % P, j = k / P;
+                positions.push_back(all[r].positions.at(j));
+                work_s += all[r].seconds.at(j);
+                if (position_line && r != 0)
+                  position_line(c, i, positions.back(), all[r].seconds.at(j), static_cast<int>(r));
+              }
+            finish(c, std::move(positions), work_s);
+          }
       }
 
       void solve_contact_cycle()
@@ -840,7 +989,19 @@ namespace hertzgear::stiffness
         cs.plane_strain = dim == 2;
         PhaseTimer::Scope scope(timer, "contact over the mesh cycle");
         const auto        t0 = std::chrono::steady_clock::now();
-        cycle                = solve_cycle(cs, true);
+        solve_cycles(
+          [](std::size_t) { return std::string("the mesh cycle"); }, {{kin.get(), cs, load_N}},
+          [&](std::size_t, const contact::MeshCycleResult &c, double) { cycle = c; },
+          [&](std::size_t, const unsigned int i, const contact::PositionResult &p, const double s, const int r) {
+            std::ostringstream line;
+            line << "position " << i + 1 << "/" << cs.n_positions << "  phase " << std::fixed
+                 << std::setprecision(3) << p.mesh_phase << "  STE " << std::setprecision(3)
+                 << p.ste_mm * 1e3 << " um  k_total " << std::setprecision(1)
+                 << p.k_total_secant_N_per_mm * 1e-3 << " N/um  pairs " << p.pairs.size()
+                 << "  active cells " << p.n_active << "/" << p.n_cells << "  (" << std::setprecision(2)
+                 << s << " s" << (processes::count() > 1 ? msg(", rank ", r) : std::string()) << ")";
+            progress_line("stiffness", line.str());
+          });
         cycle_time_s         = seconds_since(t0);
         const auto face_end  = std::count_if(cycle.positions.begin(), cycle.positions.end(),
                                             [](const auto &p) { return p.face_end_contact; });
@@ -850,27 +1011,37 @@ namespace hertzgear::stiffness
                                          " positions (edge contact; column face_end_contact)"));
       }
 
-      // The contact-grid ladder of `hertzgear accuracy stiffness`: the same FE bodies.
+      // The contact-grid ladder of `hertzgear accuracy stiffness`: the same FE bodies. Each
+      // grid's time is its contact work (the sum of its positions' solves).
       void solve_extra_contact_grids()
       {
+        if (fe.extra_contact_grids.empty())
+          return;
+        PhaseTimer::Scope     scope(timer, "contact over the mesh cycle (grid ladder)");
+        std::vector<CycleJob> jobs;
         for (const auto &[profile, face] : fe.extra_contact_grids)
           {
-            PhaseTimer::Scope          scope(timer, "contact over the mesh cycle (grid ladder)");
             contact::MeshCycleSettings cs = cycle_settings;
             cs.profile_cells              = static_cast<unsigned int>(profile);
             cs.face_cells                 = static_cast<unsigned int>(face);
-            const auto t0                 = std::chrono::steady_clock::now();
-            extra_cycles.push_back(solve_cycle(cs, false));
-            extra_cycle_time_s.push_back(seconds_since(t0));
-            std::ostringstream line;
-            line << "contact grid " << profile << " x " << (dim == 2 ? 1 : face) << ": mean k_total "
-                 << std::setprecision(6) << extra_cycles.back().k_total.mean * 1e-3 << " N/um  ("
-                 << std::setprecision(3) << seconds_since(t0) << " s)";
-            progress_line("stiffness", line.str());
+            jobs.push_back({kin.get(), cs, load_N});
           }
+        const auto label = [&](const std::size_t c) {
+          return msg("contact grid ", jobs[c].settings.profile_cells, " x ", dim == 2 ? 1u : jobs[c].settings.face_cells);
+        };
+        solve_cycles(label, jobs, [&](std::size_t c, const contact::MeshCycleResult &cyc, double work_s) {
+          extra_cycles.push_back(cyc);
+          extra_cycle_time_s.push_back(work_s);
+          std::ostringstream line;
+          line << "contact grid " << jobs[c].settings.profile_cells << " x "
+               << (dim == 2 ? 1u : jobs[c].settings.face_cells) << ": mean k_total " << std::setprecision(6)
+               << cyc.k_total.mean * 1e-3 << " N/um  (" << std::setprecision(3) << work_s << " s)";
+          progress_line("stiffness", line.str());
+        });
       }
 
-      // The load and design map: every case a further contact cycle on the same FE bodies.
+      // The load and design map: every case a further contact cycle on the same FE bodies, its
+      // time the contact work of its positions.
       void solve_map()
       {
         const auto cases = map_cases(input);
@@ -878,20 +1049,25 @@ namespace hertzgear::stiffness
           return;
         PhaseTimer::Scope scope(timer, "load and design map");
         const auto        n = input.hertz_exponent;
-        for (std::size_t c = 0; c < cases.size(); ++c)
+        std::vector<std::unique_ptr<meshing::PairKinematics>> kinematics;
+        std::vector<CycleJob>                                 jobs;
+        std::vector<MapCase>                                  solved = cases;
+        for (auto &mc : solved)
           {
-            MapCase                       mc = cases[c];
-            const meshing::PairKinematics kinematics(map_case_pair(input, mc));
-            mc.load_N     = mc.torque_Nm * 1.0e3 / kinematics.pinion().base_radius_mm();
-            const auto t0 = std::chrono::steady_clock::now();
-            const auto cyc = solve_cycle(cycle_settings, kinematics, mc.load_N, false);
-            mc.contact_time_s = seconds_since(t0);
-            for (const auto &p : cyc.positions)
-              mc.rows.push_back(row_of_position(p, n));
-            mc.pattern = pattern_of_cycle(cyc);
-            report_map_case(c, cases.size(), mc);
-            map.push_back(std::move(mc));
+            kinematics.push_back(std::make_unique<meshing::PairKinematics>(map_case_pair(input, mc)));
+            mc.load_N = mc.torque_Nm * 1.0e3 / kinematics.back()->pinion().base_radius_mm();
+            jobs.push_back({kinematics.back().get(), cycle_settings, mc.load_N});
           }
+        const auto label = [&](const std::size_t c) { return msg("map ", c + 1, "/", jobs.size()); };
+        solve_cycles(label, jobs, [&](std::size_t c, const contact::MeshCycleResult &cyc, double work_s) {
+          MapCase &mc       = solved[c];
+          mc.contact_time_s = work_s;
+          for (const auto &p : cyc.positions)
+            mc.rows.push_back(row_of_position(p, n));
+          mc.pattern = pattern_of_cycle(cyc);
+          report_map_case(c, cases.size(), mc);
+          map.push_back(std::move(mc));
+        });
       }
 
       // The load ladder of the FE force law: the mesh cycle at every load of the ladder on the
@@ -906,33 +1082,57 @@ namespace hertzgear::stiffness
         // A rung is its approach and Hertzian part per position: no tangent stiffness.
         auto rung_settings    = cycle_settings;
         rung_settings.tangent = false;
+        std::vector<CycleJob>    jobs;
+        std::vector<std::size_t> job_of_rung(percents.size(), jobs.size());
         for (std::size_t j = 0; j < percents.size(); ++j)
-          {
-            const auto t0      = std::chrono::steady_clock::now();
-            const bool nominal = percents[j] == 100.0;
-            ladder.push_back(nominal ? cycle :
-                                       solve_cycle(rung_settings, *kin, load_N * percents[j] / 100.0,
-                                                   false));
-            double a_min = 1e300, a_max = 0, ah_mean = 0, a_mean = 0;
-            for (const auto &p : ladder.back().positions)
-              {
-                a_min = std::min(a_min, p.approach_mm);
-                a_max = std::max(a_max, p.approach_mm);
-                a_mean += p.approach_mm / ladder.back().positions.size();
-                ah_mean += p.hertz_penetration_mm / ladder.back().positions.size();
-              }
-            std::ostringstream line;
-            line << "ladder " << j + 1 << "/" << percents.size() << "  load " << std::setprecision(5)
-                 << ladder.back().load_N << " N (" << percents[j] << " %):  approach "
-                 << std::fixed << std::setprecision(3) << a_min * 1e3 << " .. " << a_max * 1e3
-                 << " um, Hertzian part " << std::setprecision(1) << 100.0 * ah_mean / a_mean
-                 << " %  (";
-            if (nominal)
-              line << "the scene's cycle)";
-            else
-              line << std::setprecision(2) << seconds_since(t0) << " s)";
-            progress_line("stiffness", line.str());
-          }
+          if (percents[j] != 100.0)
+            {
+              job_of_rung[j] = jobs.size();
+              jobs.push_back({kin.get(), rung_settings, load_N * percents[j] / 100.0});
+            }
+        std::vector<contact::MeshCycleResult> rungs(jobs.size());
+        std::vector<double>                   work(jobs.size(), 0.0);
+        std::size_t                           next = 0; // the next rung to report
+        // Rungs are reported in ladder order, each as soon as it and the rungs below it are known.
+        const auto report = [&](const std::size_t known_jobs) {
+          for (; next < percents.size(); ++next)
+            {
+              const bool nominal = percents[next] == 100.0;
+              if (!nominal && job_of_rung[next] >= known_jobs)
+                return;
+              ladder.push_back(nominal ? cycle : rungs[job_of_rung[next]]);
+              double a_min = 1e300, a_max = 0, ah_mean = 0, a_mean = 0;
+              for (const auto &p : ladder.back().positions)
+                {
+                  a_min = std::min(a_min, p.approach_mm);
+                  a_max = std::max(a_max, p.approach_mm);
+                  a_mean += p.approach_mm / ladder.back().positions.size();
+                  ah_mean += p.hertz_penetration_mm / ladder.back().positions.size();
+                }
+              std::ostringstream line;
+              line << "ladder " << next + 1 << "/" << percents.size() << "  load " << std::setprecision(5)
+                   << ladder.back().load_N << " N (" << percents[next] << " %):  approach "
+                   << std::fixed << std::setprecision(3) << a_min * 1e3 << " .. " << a_max * 1e3
+                   << " um, Hertzian part " << std::setprecision(1) << 100.0 * ah_mean / a_mean
+                   << " %  (";
+              if (nominal)
+                line << "the scene's cycle)";
+              else
+                line << std::setprecision(2) << work[job_of_rung[next]] << " s)";
+              progress_line("stiffness", line.str());
+            }
+        };
+        std::vector<std::size_t> rung_of_job;
+        for (std::size_t j = 0; j < percents.size(); ++j)
+          if (percents[j] != 100.0)
+            rung_of_job.push_back(j);
+        const auto label = [&](const std::size_t c) { return msg("ladder ", rung_of_job[c] + 1, "/", percents.size()); };
+        solve_cycles(label, jobs, [&](std::size_t c, const contact::MeshCycleResult &cyc, double work_s) {
+          rungs[c] = cyc;
+          work[c]  = work_s;
+          report(c + 1);
+        });
+        report(jobs.size());
         ladder_time_s = seconds_since(start);
       }
 

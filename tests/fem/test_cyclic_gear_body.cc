@@ -10,6 +10,7 @@
 #include "fem/cyclic_gear_body.h"
 #include "fem/elastic_body.h"
 #include "fem/flank_compliance.h"
+#include "fem/harmonic_sharing.h"
 #include "meshing/gear_body_mesher.h"
 #include "meshing/pair_kinematics.h"
 #include "tests/support/spur_pair.h"
@@ -309,4 +310,49 @@ TEST(CyclicGearBodyMpi, HarmonicsSharedByTwoRanksGiveTheTableOfOne)
     }
   const double difference = (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
   EXPECT_LT(difference, 1e-12) << "rank " << rank;
+}
+
+TEST(CyclicGearBodyMpi, HarmonicsSolvedByAHelperWithoutTheSectorGiveTheTableOfOne)
+{
+  // Requirement (fem/harmonic_sharing.h): a rank that holds no sector takes cyclic harmonics the
+  // owner has not started. Rank 0 builds the body and tabulates it with rank 1 as its helper,
+  // which says it is free at once, so it gets a share of the harmonics as soon as the owner
+  // reaches them; the table equals rank 0's table built alone. Only the order of the harmonics'
+  // sums differs: 1e-12 relative, as for the harmonics shared by a communicator. Rank 1 reports
+  // the harmonics it solved. Run under mpirun -np 2 (fem.cyclic_gear_body_mpi2).
+  const int size = static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
+  if (size != 2)
+    GTEST_SKIP() << "needs two ranks";
+  const meshing::PairKinematics kin(small_pair(20.0));
+  const int rank = static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD));
+  const auto s   = table_settings(kin.pinion(), 2);
+  Eigen::MatrixXd tables[2];
+  fem::HarmonicSharing sharing(MPI_COMM_WORLD, {0}, {{1}});
+  if (rank == 0)
+    {
+      const auto msh = sector_mesh(kin, 2, "helped_r0");
+      dealii::Triangulation<2> sector;
+      fem::read_gmsh_mesh(msh.string(), sector);
+      std::filesystem::remove(msh);
+      for (const int helped : {0, 1})
+        {
+          typename fem::CyclicGearBody<2>::Parameters cp;
+          cp.body    = body_parameters<2>();
+          cp.n_teeth = static_cast<unsigned int>(kin.pinion().n_teeth());
+          if (helped)
+            cp.harmonic_sharing = [&sharing] { return &sharing; };
+          fem::CyclicGearBody<2> cyclic(sector, cp);
+          cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
+          cyclic.run();
+          tables[helped] = fem::TabulatedFlankCompliance<2>(cyclic, kin.pinion(), 0, s).matrix();
+        }
+      const double difference = (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
+      EXPECT_LT(difference, 1e-12);
+    }
+  sharing.finish();
+  if (rank == 1)
+    {
+      ASSERT_EQ(sharing.harmonics_helped().count(0), 1u);
+      EXPECT_GT(sharing.harmonics_helped().at(0), 0);
+    }
 }
