@@ -884,6 +884,8 @@ namespace hertzgear::stiffness
                         const std::function<void(std::size_t, unsigned int, const contact::PositionResult &,
                                                  double, int)> &position_line = {})
       {
+        if (jobs.empty())
+          return;
         // Decoupled teeth: the study of what the coupling of loaded teeth does.
         const contact::DecoupledFlankCompliance decoupled_pinion(compliance(0)), decoupled_gear(compliance(1));
         const contact::FlankCompliance &c0 =
@@ -923,9 +925,8 @@ namespace hertzgear::stiffness
 
         // This rank's positions, in order; a failure on any rank ends every rank with it.
         SolvedPositions mine;
+        std::size_t     solved_by_me = 0;
         processes::agree([&] {
-          std::vector<contact::PositionResult> cycle_positions;
-          double                               cycle_work_s = 0;
           for (std::size_t c = 0; c < jobs.size(); ++c)
             {
               std::size_t solved_here = 0;
@@ -938,6 +939,7 @@ namespace hertzgear::stiffness
                   auto       p     = cycles[c]->solve_position(cycles[c]->phase_of_position(i), jobs[c].load_N);
                   const double s   = seconds_since(start);
                   ++solved_here;
+                  ++solved_by_me;
                   here_s += s;
                   if (position_line && me == 0)
                     position_line(c, i, p, s, 0);
@@ -947,9 +949,9 @@ namespace hertzgear::stiffness
               if (P == 1)
                 {
                   // One rank: the cycle is complete.
-                  cycle_positions.assign(mine.positions.end() - jobs[c].settings.n_positions, mine.positions.end());
-                  cycle_work_s = here_s;
-                  finish(c, std::move(cycle_positions), cycle_work_s);
+                  auto positions = std::move(mine.positions);
+                  mine           = {};
+                  finish(c, std::move(positions), here_s);
                 }
               else if (me == 0 && !position_line && jobs.size() > 1)
                 progress_line("stiffness", msg(label(c), ": ", solved_here, " of its ",
@@ -958,7 +960,7 @@ namespace hertzgear::stiffness
             }
         });
         contact_busy_s += seconds_since(t0);
-        contact_positions += mine.positions.size();
+        contact_positions += solved_by_me;
         if (P == 1)
           return;
 
