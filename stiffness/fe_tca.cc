@@ -1084,12 +1084,14 @@ namespace hertzgear::stiffness
         // A rung is its approach and Hertzian part per position: no tangent stiffness.
         auto rung_settings    = cycle_settings;
         rung_settings.tangent = false;
+        // Every rung but 100 % is a cycle to solve: rung j is job job_of_rung[j], job c rung rung_of_job[c].
         std::vector<CycleJob>    jobs;
-        std::vector<std::size_t> job_of_rung(percents.size(), jobs.size());
+        std::vector<std::size_t> job_of_rung(percents.size(), 0), rung_of_job;
         for (std::size_t j = 0; j < percents.size(); ++j)
           if (percents[j] != 100.0)
             {
               job_of_rung[j] = jobs.size();
+              rung_of_job.push_back(j);
               jobs.push_back({kin.get(), rung_settings, load_N * percents[j] / 100.0});
             }
         std::vector<contact::MeshCycleResult> rungs(jobs.size());
@@ -1102,7 +1104,7 @@ namespace hertzgear::stiffness
               const bool nominal = percents[next] == 100.0;
               if (!nominal && job_of_rung[next] >= known_jobs)
                 return;
-              ladder.push_back(nominal ? cycle : rungs[job_of_rung[next]]);
+              ladder.push_back(nominal ? cycle : std::move(rungs[job_of_rung[next]]));
               double a_min = 1e300, a_max = 0, ah_mean = 0, a_mean = 0;
               for (const auto &p : ladder.back().positions)
                 {
@@ -1124,10 +1126,6 @@ namespace hertzgear::stiffness
               progress_line("stiffness", line.str());
             }
         };
-        std::vector<std::size_t> rung_of_job;
-        for (std::size_t j = 0; j < percents.size(); ++j)
-          if (percents[j] != 100.0)
-            rung_of_job.push_back(j);
         const auto label = [&](const std::size_t c) { return msg("ladder ", rung_of_job[c] + 1, "/", percents.size()); };
         solve_cycles(label, jobs, [&](std::size_t c, const contact::MeshCycleResult &cyc, double work_s) {
           rungs[c] = cyc;
