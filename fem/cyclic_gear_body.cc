@@ -3,6 +3,7 @@
 #include "common/errors.h"
 #include "fem/harmonic_sharing.h"
 #include "fem/petsc_ksp.h"
+#include "fem/sector_group.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -38,15 +39,17 @@ namespace hertzgear::fem
   } // namespace
 
   template <int dim>
-  struct CyclicGearBody<dim>::Factorisation
+  long CyclicGearBody<dim>::factorisation_memory_MB() const
   {
-    KSP ksp = nullptr;
-    ~Factorisation()
-    {
-      if (ksp != nullptr)
-        KSPDestroy(&ksp);
-    }
-  };
+    HG_REQUIRE_INPUT(factors != nullptr, "CyclicGearBody::run() must be called first");
+    return factors->estimated_memory_MB_per_process();
+  }
+
+  template <int dim>
+  bool CyclicGearBody<dim>::in_group() const
+  {
+    return parameters.sector_group != nullptr && parameters.sector_group->shared();
+  }
 
   template <int dim>
   CyclicGearBody<dim>::CyclicGearBody(const Triangulation<dim> &sector, const Parameters &parameters)
@@ -209,32 +212,27 @@ namespace hertzgear::fem
   template <int dim>
   void CyclicGearBody<dim>::factorise()
   {
-    factorisation = std::make_unique<Factorisation>();
     const std::size_t     n_a = cut_a.size();
     std::vector<PetscInt> schur_rows;
     for (const auto d : cut_a)
       schur_rows.push_back(static_cast<PetscInt>(d));
     for (const auto d : cut_b)
       schur_rows.push_back(static_cast<PetscInt>(d));
-    IS is;
-    check_petsc(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(schur_rows.size()),
-                                schur_rows.data(), PETSC_COPY_VALUES, &is),
-                "ISCreateGeneral");
-    try
+    const auto n_dofs = static_cast<PetscInt>(body.n_dofs());
+    if (in_group())
       {
-        create_mumps_cholesky_with_schur(factorisation->ksp, body.get_system_matrix(), is,
-                                         parameters.body.factorisation_memory_limit_MB);
+        parameters.sector_group->factorise(body.get_system_matrix(), n_dofs, schur_rows,
+                                           parameters.body.factorisation_memory_limit_MB);
+        factors = &parameters.sector_group->factorisation();
       }
-    catch (...)
+    else
       {
-        ISDestroy(&is);
-        throw;
+        own_factors = std::make_unique<SectorFactorisation>(MPI_COMM_SELF, body.get_system_matrix(), n_dofs,
+                                                            schur_rows, parameters.body.factorisation_memory_limit_MB);
+        factors = own_factors.get();
       }
-    ISDestroy(&is);
-    PetscInt n = 0;
-    const auto dense = schur_complement(factorisation->ksp, n);
-    // From now on a solve is one with the interior block K_II alone (cut faces held at zero).
-    mumps_interior_solves(factorisation->ksp);
+    PetscInt   n     = 0;
+    const auto dense = factors->schur(n);
     HG_REQUIRE_NUMERIC(static_cast<std::size_t>(n) == 2 * n_a, "the Schur complement has ", n,
                        " rows, not ", 2 * n_a);
     S = Eigen::Map<const Eigen::MatrixXd>(dense.data(), n, n);
@@ -260,6 +258,8 @@ namespace hertzgear::fem
     const Eigen::MatrixXd S_BB_T = turn(S.bottomRightCorner(m, m), true).transpose(); // S_BB T
     D = S.topLeftCorner(m, m) + turn(S_BB_T, true);
     E = turn(S.bottomLeftCorner(m, m), true).transpose(); // S_AB T = (T^T S_BA)^T
+    if (in_group())
+      parameters.sector_group->send_interface_blocks(D, E);
   }
 
   template <int dim>
@@ -288,6 +288,39 @@ namespace hertzgear::fem
     const int          N = static_cast<int>(parameters.n_teeth);
     const Eigen::Index n = D.rows();
     const Eigen::Index m = q.begin()->second.cols();
+    if (in_group() && only_harmonic < 0)
+      {
+        // Over the group, round by round; between rounds free ranks outside it take a share.
+        HarmonicSharing *sharing = parameters.harmonic_sharing ? parameters.harmonic_sharing() : nullptr;
+        std::deque<int>  todo;
+        for (int k = 0; k <= N / 2; ++k)
+          todo.push_back(k);
+        const int workers = parameters.sector_group->size();
+        try
+          {
+            auto u = parameters.sector_group->harmonics(N, D, E, q, s_min, s_max, todo, [&](std::deque<int> &t) {
+              if (sharing)
+                sharing->lend(parameters.sharing_body, t, N, D, E, q, s_min, s_max, workers);
+            });
+            if (sharing)
+              sharing->collect(parameters.sharing_body, u);
+            return u;
+          }
+        catch (...)
+          {
+            if (sharing)
+              try
+                {
+                  std::map<int, Eigen::MatrixXd> ignored;
+                  for (int s = s_min; s <= s_max; ++s)
+                    ignored[s] = Eigen::MatrixXd::Zero(n, m);
+                  sharing->collect(parameters.sharing_body, ignored); // the helpers' results, then this failure
+                }
+              catch (...)
+                {}
+            throw;
+          }
+      }
     std::map<int, Eigen::MatrixXd> u;
     for (int s = s_min; s <= s_max; ++s)
       u[s] = Eigen::MatrixXd::Zero(n, m);
@@ -393,7 +426,6 @@ namespace hertzgear::fem
         if (parameters.between_work_units)
           parameters.between_work_units();
         const std::size_t       end = std::min(n_rhs, start + block);
-        std::vector<Vec>        b, x;
         std::vector<VectorType> rhs, solutions(end - start);
         for (std::size_t j = start; j < end; ++j)
           {
@@ -401,14 +433,19 @@ namespace hertzgear::fem
             zero_cut_entries(rhs.back());
             solutions[j - start].reinit(body.get_locally_owned_dofs(), MPI_COMM_SELF);
           }
-        for (std::size_t j = start; j < end; ++j)
-          {
-            b.push_back(rhs[j - start]);
-            x.push_back(solutions[j - start]);
-          }
         {
           PhaseTimer::Scope t(timer, "solves");
-          mumps_block_solve(factorisation->ksp, b, x);
+          std::vector<Vec> b, x;
+          for (std::size_t j = start; j < end; ++j)
+            {
+              b.push_back(rhs[j - start]);
+              x.push_back(solutions[j - start]);
+            }
+          const auto n_columns = static_cast<PetscInt>(end - start);
+          if (in_group())
+            parameters.sector_group->solve(n_columns, b, x);
+          else
+            factors->solve(n_columns, b, x);
         }
         rhs.clear();
         for (std::size_t j = start; j < end; ++j)
@@ -424,7 +461,7 @@ namespace hertzgear::fem
   FullMatrix<double> CyclicGearBody<dim>::compliance(const std::vector<PatchLoad<dim>>    &loads,
                                                      const std::vector<PointReading<dim>> &readings) const
   {
-    HG_REQUIRE_INPUT(factorisation != nullptr, "CyclicGearBody::run() must be called first");
+    HG_REQUIRE_INPUT(factors != nullptr, "CyclicGearBody::run() must be called first");
     // Loads and readings turned into the sector; equal ones solved once.
     const double scale = 1e-9; // relative: equal up to round-off of the rotation
     std::vector<PatchLoad<dim>>    unique_loads;
@@ -544,7 +581,7 @@ namespace hertzgear::fem
   typename CyclicGearBody<dim>::CondensedLoads
   CyclicGearBody<dim>::condense(const std::vector<SectorLoads> &cases) const
   {
-    HG_REQUIRE_INPUT(factorisation != nullptr, "CyclicGearBody::run() must be called first");
+    HG_REQUIRE_INPUT(factors != nullptr, "CyclicGearBody::run() must be called first");
     const Eigen::Index                  m = static_cast<Eigen::Index>(cut_a.size());
     const Eigen::Index                  n_cases = static_cast<Eigen::Index>(cases.size());
     std::vector<std::pair<Eigen::Index, int>> loaded; // (case, sector) of each right-hand side

@@ -22,7 +22,8 @@
 // The harmonics are independent: with a communicator of P processes each factorises the
 // harmonics k = rank, rank + P, ... and the interface displacements are summed (MPI_Allreduce);
 // or helper processes that hold no sector take the harmonics this one has not started
-// (fem/harmonic_sharing.h).
+// (fem/harmonic_sharing.h). A group of processes may also share the sector's factorisation, its
+// interior solves and its harmonics (fem/sector_group.h).
 #include "fem/body_compliance.h"
 #include "fem/elastic_body.h"
 
@@ -41,6 +42,8 @@
 namespace hertzgear::fem
 {
   class HarmonicSharing;
+  class SectorGroup;
+  class SectorFactorisation;
 
   template <int dim>
   class CyclicGearBody : public BodyCompliance<dim>
@@ -68,6 +71,10 @@ namespace hertzgear::fem
       // bodies they help; no sharing when it is empty or returns null.
       std::function<HarmonicSharing *()> harmonic_sharing;
       int                                sharing_body = 0;
+      // The processes that factorise and solve the sector with this one, which is its rank 0
+      // (fem/sector_group.h); null or a group of one: this process alone. It must outlive the
+      // body's work; the caller dismisses it.
+      SectorGroup *sector_group = nullptr;
     };
 
     // `sector`: a serial triangulation of one tooth centred on +x (the tooth at polar angle 0),
@@ -129,6 +136,9 @@ namespace hertzgear::fem
     dealii::Point<dim> to_sector(const dealii::Point<dim> &x, int tooth) const;
     dealii::Tensor<1, dim> to_sector(const dealii::Tensor<1, dim> &v, int tooth) const;
     const PhaseTimer &get_timer() const { return timer; }
+    // MUMPS's estimate of the largest memory per process of the sector's factorisation [MB], on
+    // the group that made it (fem/sector_group.h).
+    long factorisation_memory_MB() const;
 
   private:
     using VectorType = typename ElasticBody<dim>::VectorType;
@@ -154,8 +164,9 @@ namespace hertzgear::fem
     Eigen::MatrixXd S;                                         // [A; B] x [A; B]
     Eigen::MatrixXd D, E;
     Eigen::SparseMatrix<double, Eigen::RowMajor> K_cut; // the rows of K at [A; B]
-    struct Factorisation;
-    std::unique_ptr<Factorisation> factorisation;
+    std::unique_ptr<SectorFactorisation> own_factors; // alone
+    const SectorFactorisation           *factors = nullptr; // own_factors or the group's
+    bool in_group() const;
     mutable PhaseTimer timer;
   };
 } // namespace hertzgear::fem

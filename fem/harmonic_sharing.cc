@@ -177,7 +177,8 @@ namespace hertzgear::fem
 
   void HarmonicSharing::lend(const int body, std::deque<int> &todo, const int n_teeth,
                              const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
-                             const std::map<int, Eigen::MatrixXd> &q, const int s_min, const int s_max)
+                             const std::map<int, Eigen::MatrixXd> &q, const int s_min, const int s_max,
+                             const int own_workers)
   {
     if (!active(body))
       return;
@@ -187,8 +188,9 @@ namespace hertzgear::fem
       {
         const int h = *free_now.begin();
         free_now.erase(free_now.begin());
-        // An equal share for each free helper and the owner.
-        const std::size_t share = std::max<std::size_t>(1, todo.size() / (free_now.size() + 2));
+        // An equal share for each free helper and each of the owner's workers.
+        const std::size_t share = std::max<std::size_t>(
+          1, todo.size() / (free_now.size() + 1 + static_cast<std::size_t>(std::max(1, own_workers))));
         std::vector<int>  harmonics;
         for (std::size_t i = 0; i < share; ++i)
           {

@@ -54,9 +54,12 @@ namespace hertzgear::fem
     HarmonicSharing &operator=(const HarmonicSharing &) = delete;
 
     // Owner side, between its own harmonics: gives every helper of `body` that is free a share
-    // of `todo` (taken from its back; the owner keeps at least one harmonic for itself).
+    // of `todo` (taken from its back; the owner keeps at least one harmonic for itself). The
+    // shares are equal among the free helpers and the owner's `own_workers` processes (its group
+    // of ranks, fem/sector_group.h).
     void lend(int body, std::deque<int> &todo, int n_teeth, const Eigen::MatrixXd &D,
-              const Eigen::MatrixXd &E, const std::map<int, Eigen::MatrixXd> &q, int s_min, int s_max);
+              const Eigen::MatrixXd &E, const std::map<int, Eigen::MatrixXd> &q, int s_min, int s_max,
+              int own_workers = 1);
     // Owner side, after its own harmonics: adds the results of every share lent since the last
     // call to u; throws NumericalError with a helper's message if one of its harmonics failed.
     void collect(int body, std::map<int, Eigen::MatrixXd> &u);

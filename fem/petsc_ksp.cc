@@ -113,10 +113,45 @@ namespace hertzgear
       return set_blas_threads(threads) ? threads : 0;
     }
 
+    std::string mumps_failure_reason(const long infog1, const long estimate_max_MB, const long estimate_sum_MB,
+                                     const long limit_MB)
+    {
+      switch (infog1)
+        {
+          case -8:
+          case -9:
+          case -11:
+          case -12:
+          case -14:
+          case -15:
+          case -17:
+          case -20:
+            return "a MUMPS work array was too small for the fill-in; raise MUMPS's estimate through "
+                   "PETSC_OPTIONS=\"-mat_mumps_icntl_14 100\" (per cent extra workspace)";
+          case -13:
+          case -19:
+            {
+              std::ostringstream os;
+              os << "MUMPS " << (infog1 == -19 ? "stopped before the factorisation: it " : "ran out of memory; it ")
+                 << "estimates " << estimate_max_MB << " MB per process (" << estimate_sum_MB
+                 << " MB in all) against " << limit_MB
+                 << " MB per process (ICNTL(23): the memory available when the "
+                    "factorisation started, or PETSC_OPTIONS -mat_mumps_icntl_23); use a coarser {level}, "
+                    "{degree} or {face_width_layers}, more MPI ranks on "
+                    "more memory, or {linear_solver} = amg-cg";
+              return os.str();
+            }
+          case -10:
+            return "the matrix is numerically singular: is the body clamped?";
+          default:
+            return "see the MUMPS users' guide for INFOG(1)";
+        }
+    }
+
     namespace
     {
       void create_mumps(KSP &ksp, Mat A, MPI_Comm comm, const PCType factorisation,
-                        const long memory_limit_MB, IS schur = nullptr)
+                        const long memory_limit_MB)
       {
         check_petsc(KSPCreate(comm, &ksp), "KSPCreate");
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
@@ -138,8 +173,6 @@ namespace hertzgear
         if (!user_limit)
           check_petsc(MatMumpsSetIcntl(F, 23, static_cast<PetscInt>(limit_MB)),
                       "MatMumpsSetIcntl(23)");
-        if (schur != nullptr)
-          check_petsc(MatFactorSetSchurIS(F, schur), "MatFactorSetSchurIS");
         check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
         // PETSc does not stop on a failed MUMPS factorisation; a later substitution would fail
         // with a misleading INFOG(1) = -3. Say what MUMPS reported, now.
@@ -150,48 +183,13 @@ namespace hertzgear
             PetscInt infog1 = 0, infog2 = 0;
             MatMumpsGetInfog(F, 1, &infog1);
             MatMumpsGetInfog(F, 2, &infog2);
-            std::string why;
-            switch (infog1)
-              {
-                case -8:
-                case -9:
-                case -11:
-                case -12:
-                case -14:
-                case -15:
-                case -17:
-                case -20:
-                  why = "a MUMPS work array was too small for the fill-in; raise MUMPS's "
-                        "estimate through PETSC_OPTIONS=\"-mat_mumps_icntl_14 100\" (per cent "
-                        "extra workspace)";
-                  break;
-                case -13:
-                case -19:
-                  {
-                    // INFOG(16): the analysis' estimate of the largest per-process memory of
-                    // the factorisation [MB]; INFOG(17): its sum over the processes.
-                    PetscInt est_max = 0, est_sum = 0, limit = 0;
-                    MatMumpsGetInfog(F, 16, &est_max);
-                    MatMumpsGetInfog(F, 17, &est_sum);
-                    MatMumpsGetIcntl(F, 23, &limit);
-                    std::ostringstream os;
-                    os << "MUMPS " << (infog1 == -19 ? "stopped before the factorisation: it " :
-                                                       "ran out of memory; it ")
-                       << "estimates " << est_max << " MB per process (" << est_sum
-                       << " MB in all) against " << limit
-                       << " MB per process (ICNTL(23): the memory available when the "
-                          "factorisation started, or PETSC_OPTIONS -mat_mumps_icntl_23); use a coarser {level}, "
-                          "{degree} or {face_width_layers}, more MPI ranks on "
-                          "more memory, or {linear_solver} = amg-cg";
-                    why = os.str();
-                  }
-                  break;
-                case -10:
-                  why = "the matrix is numerically singular: is the body clamped?";
-                  break;
-                default:
-                  why = "see the MUMPS users' guide for INFOG(1)";
-              }
+            // INFOG(16): the analysis' estimate of the largest per-process memory of the
+            // factorisation [MB]; INFOG(17): its sum over the processes.
+            PetscInt est_max = 0, est_sum = 0, limit = 0;
+            MatMumpsGetInfog(F, 16, &est_max);
+            MatMumpsGetInfog(F, 17, &est_sum);
+            MatMumpsGetIcntl(F, 23, &limit);
+            const std::string why = mumps_failure_reason(infog1, est_max, est_sum, limit);
             throw NumericalError(msg("the MUMPS factorisation failed: INFOG(1) = ", infog1,
                                      ", INFOG(2) = ", infog2, " (PETSc factor error ",
                                      static_cast<int>(error), "): ", why));
@@ -208,43 +206,6 @@ namespace hertzgear
     {
       check_petsc(MatSetOption(A, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
       create_mumps(ksp, A, comm, PCCHOLESKY, memory_limit_MB);
-    }
-
-    void create_mumps_cholesky_with_schur(KSP &ksp, Mat A, IS schur, const long memory_limit_MB)
-    {
-      check_petsc(MatSetOption(A, MAT_SPD, PETSC_TRUE), "MatSetOption(MAT_SPD)");
-      create_mumps(ksp, A, PETSC_COMM_SELF, PCCHOLESKY, memory_limit_MB, schur);
-    }
-
-    std::vector<double> schur_complement(KSP ksp, PetscInt &n)
-    {
-      PC  pc;
-      Mat F, S = nullptr;
-      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-      check_petsc(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
-      check_petsc(MatFactorCreateSchurComplement(F, &S, nullptr), "MatFactorCreateSchurComplement");
-      PetscInt m = 0;
-      check_petsc(MatGetSize(S, &m, &n), "MatGetSize");
-      const PetscScalar *a = nullptr;
-      check_petsc(MatDenseGetArrayRead(S, &a), "MatDenseGetArrayRead");
-      PetscInt lda = 0;
-      check_petsc(MatDenseGetLDA(S, &lda), "MatDenseGetLDA");
-      std::vector<double> dense(static_cast<std::size_t>(n) * n);
-      for (PetscInt j = 0; j < n; ++j)
-        for (PetscInt i = 0; i < n; ++i)
-          dense[static_cast<std::size_t>(j) * n + i] = a[static_cast<std::size_t>(j) * lda + i];
-      check_petsc(MatDenseRestoreArrayRead(S, &a), "MatDenseRestoreArrayRead");
-      check_petsc(MatDestroy(&S), "MatDestroy");
-      return dense;
-    }
-
-    void mumps_interior_solves(KSP ksp)
-    {
-      PC  pc;
-      Mat F;
-      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-      check_petsc(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
-      check_petsc(MatMumpsSetIcntl(F, 26, 0), "MatMumpsSetIcntl(26)");
     }
 
     void mumps_block_solve(KSP ksp, const std::vector<Vec> &rhs, const std::vector<Vec> &solution)

@@ -2,6 +2,7 @@
 // Small PETSc helpers shared by the FE solvers of fem/ (elastic bodies, resolved contact).
 #include <petscksp.h>
 
+#include <string>
 #include <vector>
 
 namespace hertzgear
@@ -26,17 +27,10 @@ namespace hertzgear
     // The same with a MUMPS Cholesky (LDL^T) factorisation of a symmetric positive definite A
     // (KSPPREONLY + PCCHOLESKY, A flagged MAT_SPD): half the factor memory and flops of the LU.
     void create_mumps_cholesky(KSP &ksp, Mat A, MPI_Comm comm, long memory_limit_MB = 0);
-    // The same, and MUMPS also computes the Schur complement of A on the rows and columns
-    // `schur` (a sequential A only), in the order of `schur`: S = A_ss - A_si A_ii^-1 A_is, read
-    // by schur_complement. Solves with `ksp` stay solves with the whole A.
-    void create_mumps_cholesky_with_schur(KSP &ksp, Mat A, IS schur, long memory_limit_MB = 0);
-    // The dense Schur complement of a factorisation made by create_mumps_cholesky_with_schur,
-    // column-major, n x n.
-    std::vector<double> schur_complement(KSP ksp, PetscInt &n);
-    // After it: solves with `ksp` are solves with the interior block A_ii alone (MUMPS ICNTL(26)
-    // = 0: the Schur rows of the right-hand side are ignored, those of the solution are 0),
-    // instead of PETSc's default full solve through a factorisation of the dense Schur complement.
-    void mumps_interior_solves(KSP ksp);
+    // What a failed MUMPS factorisation means for the user, from its INFOG(1), the analysis'
+    // memory estimates (INFOG(16), the largest per process, and INFOG(17), their sum, in MB) and
+    // the limit per process (ICNTL(23), MB).
+    std::string mumps_failure_reason(long infog1, long estimate_max_MB, long estimate_sum_MB, long limit_MB);
 
     // Memory [MB] this process may still use: MemAvailable of /proc/meminfo, capped by the
     // cgroup (v2 memory.max - memory.current, or v1 limit - usage) when one is set, shared

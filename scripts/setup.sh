@@ -13,7 +13,7 @@ build_dir="${HERTZGEAR_BUILD_DIR:-build}"
 
 packages=(
   g++ cmake make git pkg-config
-  libdeal.ii-dev libgmsh-dev gmsh libeigen3-dev petsc-dev libsundials-dev
+  libdeal.ii-dev libgmsh-dev gmsh libeigen3-dev petsc-dev libmumps-dev libsundials-dev
   libopenblas0-pthread
   libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libfftw3-dev

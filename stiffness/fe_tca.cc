@@ -10,6 +10,7 @@
 #include "fem/cyclic_gear_body.h"
 #include "fem/flank_compliance.h"
 #include "fem/harmonic_sharing.h"
+#include "fem/sector_group.h"
 #include "common/processes.h"
 #include "meshing/pair_kinematics.h"
 
@@ -186,6 +187,15 @@ namespace hertzgear::stiffness
       // Helpers of its harmonics while it is built (null: none), and its index among the bodies.
       fem::HarmonicSharing *sharing      = nullptr;
       int                   sharing_body = 0;
+      // The ranks that factorise and solve it with the owner (fem/sector_group.h; the owner is
+      // rank 0 of it); MPI_COMM_SELF: the owner alone.
+      MPI_Comm sector_group = MPI_COMM_SELF;
+      // A sector whose factorisation does not fit its group's memory (MUMPS's estimate against
+      // the limit per rank) is left, when `may_defer`, for every rank together: `too_large` then
+      // holds MUMPS's estimate per process, the limit [MB] and the group's size.
+      bool                  may_defer = false;
+      std::array<long, 3>   too_large = {0, 0, 0};
+      long                  factorisation_MB = 0; // MUMPS's estimate per rank of its group
       virtual std::size_t n_cut_face_dofs() const = 0;
       virtual void build_and_tabulate() = 0; // on the owner
       virtual void share()              = 0; // collective
@@ -216,6 +226,29 @@ namespace hertzgear::stiffness
 
       void build_and_tabulate() override
       {
+        // The group's other ranks follow this one until it is dismissed: at the end of the work,
+        // or when it fails, after the body that uses its factorisation.
+        fem::SectorGroup group(sector_group);
+        try
+          {
+            build_and_tabulate(group);
+          }
+        catch (const fem::FactorisationTooLarge &e)
+          {
+            body.reset();
+            if (!may_defer)
+              throw;
+            too_large = {e.estimate_MB_per_process, e.limit_MB_per_process, e.processes};
+          }
+        catch (...)
+          {
+            body.reset();
+            throw;
+          }
+      }
+
+      void build_and_tabulate(fem::SectorGroup &group)
+      {
         namespace tag = meshing::physical_tag;
         const auto t0 = std::chrono::steady_clock::now();
         fem::read_gmsh_mesh(msh.string(), sector);
@@ -237,17 +270,22 @@ namespace hertzgear::stiffness
         };
         p.harmonic_sharing = [this] { return sharing; };
         p.sharing_body     = sharing_body;
+        p.sector_group     = group.shared() ? &group : nullptr; // the group ends with this call
         body = std::make_unique<fem::CyclicGearBody<dim>>(sector, p);
         // The sector's one tooth (tooth 0 of its mesh) carries every load, turned into it.
         body->set_load_boundary_ids({static_cast<dealii::types::boundary_id>(tag::drive_flank)});
         body->run();
+        factorisation_MB = body->factorisation_memory_MB();
         table     = std::make_unique<fem::TabulatedFlankCompliance<dim>>(*body, gear, 0, settings);
         dofs      = body->n_dofs();
         cut_dofs  = body->n_cut_dofs();
         phases    = body->get_timer();
         wall_s    = seconds_since(t0);
         // Only the fields need the factorisation again: without them, free its memory now,
-        // before the other body of a serial run is factorised.
+        // before the other body of a serial run is factorised. A group's factorisation ends with
+        // the group (the fields are written by bodies of one rank, make_full_gear_bodies).
+        HG_REQUIRE_INPUT(fe.fields_dir.empty() || !group.shared(),
+                         "the fields of a full gear are written by its owner alone, not by a group of ranks");
         if (fe.fields_dir.empty())
           {
             body.reset();
@@ -273,6 +311,7 @@ namespace hertzgear::stiffness
                                                                        material.poisson_ratio, gear, settings);
         dofs     = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, dofs, root);
         cut_dofs = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, cut_dofs, root);
+        factorisation_MB = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, factorisation_MB, root);
         wall_s   = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, wall_s, root);
         const auto entries = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, phases.phases(), root);
         if (!mine)
@@ -652,42 +691,111 @@ namespace hertzgear::stiffness
         report_body(b, s, seconds_since(t0));
       }
 
-      // Both full gears at once: body b on rank b mod P.
+      // A body built by a group, as a work unit of each of its ranks: "gear (ranks 1, 2)".
+      std::string group_unit(const unsigned int b, const std::vector<int> &ranks) const
+      {
+        std::ostringstream os;
+        os << body_name(b) << " (ranks ";
+        for (std::size_t i = 0; i < ranks.size(); ++i)
+          os << (i ? ", " : "") << ranks[i];
+        os << ")";
+        return os.str();
+      }
+
+      // Both full gears at once: body b on rank b mod P. With more ranks, and without fields
+      // (whose solves come after the stage's collective calls), each body is built by a group:
+      // ranks 2, 3, ... join the bodies in turn, the gear with more teeth first.
       void make_full_gear_bodies()
       {
-        PhaseTimer::Scope           scope(timer, "FE compliance (full gears)");
-        // A pair's FE bodies are two work units, one rank each: further ranks help with their
-        // harmonics, and then share the contact positions with the others.
-        if (processes::count() > 2)
-          progress_line("stiffness", msg("warning: ", processes::count(), " ranks, but a pair on full gears has two "
-                                         "bodies, each built by one rank: ranks 2 to ", processes::count() - 1,
-                                         " only help with their harmonics, then share the contact positions "
-                                         "(docs/accuracy-stiffness.md, \"MPI: what runs where\")"));
+        PhaseTimer::Scope  scope(timer, "FE compliance (full gears)");
+        const int          P          = processes::count();
+        const bool         groups     = P > 2 && fe.fields_dir.empty();
+        const unsigned int more_teeth = kin->body(1).n_teeth() >= kin->body(0).n_teeth() ? 1 : 0;
+        std::vector<std::vector<int>> group_ranks(2);
+        for (int r = 0; r < P; ++r)
+          {
+            const unsigned int b = r < 2 ? static_cast<unsigned int>(r) : ((r % 2 == 0) ? more_teeth : 1 - more_teeth);
+            group_ranks[b].push_back(r);
+          }
+        if (P > 2)
+          {
+            std::ostringstream line;
+            if (groups)
+              {
+                line << "note: " << P << " ranks for a pair on full gears: each body is factorised, solved and "
+                     << "its harmonics summed by a group of ranks (";
+                for (unsigned int b = 0; b < 2; ++b)
+                  {
+                    line << (b ? "; " : "") << body_name(b) << ": rank" << (group_ranks[b].size() > 1 ? "s " : " ");
+                    for (std::size_t i = 0; i < group_ranks[b].size(); ++i)
+                      line << (i ? ", " : "") << group_ranks[b][i];
+                  }
+                line << "), then every rank shares the contact positions (docs/accuracy-stiffness.md, \"MPI: what "
+                        "runs where\")";
+              }
+            else
+              line << "warning: " << P << " ranks, but a pair on full gears whose fields are written has two bodies, "
+                   << "each built by one rank: ranks 2 to " << P - 1 << " only help with their harmonics, then share "
+                   << "the contact positions (docs/accuracy-stiffness.md, \"MPI: what runs where\")";
+            progress_line("stiffness", line.str());
+          }
+        // Every rank takes part in the split (collective); the owner of body b is rank b, rank 0
+        // of its group.
+        MPI_Comm group_comm = MPI_COMM_SELF;
+        if (groups)
+          {
+            const int color = std::find(group_ranks[0].begin(), group_ranks[0].end(), processes::rank()) !=
+                                  group_ranks[0].end() ? 0 : 1;
+            MPI_Comm_split(MPI_COMM_WORLD, color, processes::rank(), &group_comm);
+          }
+        const struct FreeGroup
+        {
+          MPI_Comm &comm;
+          ~FreeGroup()
+          {
+            if (comm != MPI_COMM_SELF)
+              MPI_Comm_free(&comm);
+          }
+        } free_group{group_comm};
         fem::FlankTableSettings     s[2];
         std::unique_ptr<SharedBody> shared[2];
+        bool                        deferred[2] = {false, false};
+        long                        bodies_factorisation_MB[2] = {0, 0};
+        int                         member_of   = -1; // the body whose group this rank joined, not owning it
         for (unsigned int b = 0; b < 2; ++b)
           {
             s[b]              = body_table_settings(b);
             const Material &m = b == 0 ? input.pinion_material : input.gear_material;
-            const int owner   = static_cast<int>(b % static_cast<unsigned int>(processes::count()));
+            const int owner   = static_cast<int>(b % static_cast<unsigned int>(P));
             if (dim == 2)
               shared[b] = std::make_unique<CyclicBodyModel<2>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
             else
               shared[b] = std::make_unique<CyclicBodyModel<3>>(msh_file(b), m, fe, kin->body(b), teeth[b], s[b], owner);
+            if (groups && owner == processes::rank())
+              shared[b]->sector_group = group_comm;
+            // Without fields (written by a body of one rank) a body too large for its group waits
+            // for every rank.
+            const std::size_t group_size = groups ? group_ranks[b].size() : 1;
+            shared[b]->may_defer         = fe.fields_dir.empty() && static_cast<int>(group_size) < P;
           }
         // On two ranks the one that finishes first lends its cores to the other until that one
-        // hands out harmonics to it. Ranks without a body help with the harmonics from the start
-        // (the gear with more teeth, more harmonics, first), and a rank whose body is done helps
-        // the other's (fem/harmonic_sharing.h).
+        // hands out harmonics to it. Without groups, ranks without a body help with the
+        // harmonics from the start (the gear with more teeth, more harmonics, first); with groups,
+        // the ranks of the group that is done first help the other's. A rank whose body is done
+        // helps the other's (fem/harmonic_sharing.h).
         fem::CoreLending              lending(MPI_COMM_WORLD);
         std::vector<int>              owners = {shared[0]->owner, shared[1]->owner};
         std::vector<std::vector<int>> helpers(2);
-        const unsigned int            more_teeth = kin->body(1).n_teeth() >= kin->body(0).n_teeth() ? 1 : 0;
-        for (int r = 2; r < processes::count(); ++r)
-          {
-            helpers[more_teeth].push_back(r);
-            helpers[1 - more_teeth].push_back(r);
-          }
+        for (int r = 2; r < P; ++r)
+          if (!groups)
+            {
+              helpers[more_teeth].push_back(r);
+              helpers[1 - more_teeth].push_back(r);
+            }
+          else // a member of one body's group helps the other body once its group is done
+            for (unsigned int b = 0; b < 2; ++b)
+              if (std::find(group_ranks[b].begin(), group_ranks[b].end(), r) == group_ranks[b].end())
+                helpers[b].push_back(r);
         fem::HarmonicSharing sharing(MPI_COMM_WORLD, owners, helpers, [&lending](int) { lending.give_back(); });
         processes::agree([&] {
           const auto end_of_own_work = [&] {
@@ -707,12 +815,20 @@ namespace hertzgear::stiffness
                       shared[b]->sharing_body       = static_cast<int>(b);
                       shared[b]->build_and_tabulate();
                       body_busy_s += seconds_since(t0);
-                      my_bodies.push_back(body_name(b));
+                      if (shared[b]->too_large[0] == 0)
+                        my_bodies.push_back(groups ? group_unit(b, group_ranks[b]) : body_name(b));
                     }
                   catch (const fem::PatchOffMeshError &e)
                     {
                       throw ParameterError("level", too_coarse_message(b, s[b], e.what()));
                     }
+              if (groups && processes::rank() >= 2)
+                {
+                  const unsigned int b = std::find(group_ranks[0].begin(), group_ranks[0].end(),
+                                                   processes::rank()) != group_ranks[0].end() ? 0 : 1;
+                  body_busy_s += fem::serve_sector_group(group_comm);
+                  member_of = static_cast<int>(b);
+                }
             }
           catch (...)
             {
@@ -724,18 +840,75 @@ namespace hertzgear::stiffness
         for (const auto &[b, count] : sharing.harmonics_helped())
           harmonics_helped[body_name(static_cast<unsigned int>(b))] = count;
         body_busy_s += sharing.helping_busy_s();
+        // A body too large for its group's memory: built now by every rank together, its owner
+        // first (fem/sector_group.h), the factors spread over all of them.
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            std::array<long, 3> too_large = shared[b]->too_large;
+            MPI_Bcast(too_large.data(), 3, MPI_LONG, shared[b]->owner, MPI_COMM_WORLD);
+            if (too_large[0] == 0)
+              continue;
+            progress_line("stiffness", msg(body_name(b), ": MUMPS estimates ", too_large[0], " MB per process for its "
+                                           "sector's factorisation on ", too_large[2], too_large[2] == 1 ? " rank" : " ranks",
+                                           ", more than the ", too_large[1], " MB per rank it may use: it is "
+                                           "factorised over all ", P, " ranks, after the other body"));
+            const bool owner = shared[b]->owner == processes::rank();
+            MPI_Comm   all   = MPI_COMM_NULL;
+            MPI_Comm_split(MPI_COMM_WORLD, 0, owner ? -1 : processes::rank(), &all);
+            const struct FreeAll
+            {
+              MPI_Comm &comm;
+              ~FreeAll() { MPI_Comm_free(&comm); }
+            } free_all{all};
+            group_ranks[b].clear();
+            group_ranks[b].push_back(shared[b]->owner);
+            for (int r = 0; r < P; ++r)
+              if (r != shared[b]->owner)
+                group_ranks[b].push_back(r);
+            processes::agree([&] {
+              const auto t0 = std::chrono::steady_clock::now();
+              if (owner)
+                {
+                  shared[b]->sector_group = all;
+                  shared[b]->may_defer    = false;
+                  shared[b]->too_large    = {0, 0, 0};
+                  try
+                    {
+                      shared[b]->build_and_tabulate();
+                    }
+                  catch (const fem::PatchOffMeshError &e)
+                    {
+                      throw ParameterError("level", too_coarse_message(b, s[b], e.what()));
+                    }
+                  body_busy_s += seconds_since(t0);
+                }
+              else
+                body_busy_s += fem::serve_sector_group(all);
+              my_bodies.push_back(group_unit(b, group_ranks[b]));
+            });
+            deferred[b] = true;
+            long per_rank = shared[b]->factorisation_MB;
+            MPI_Bcast(&per_rank, 1, MPI_LONG, shared[b]->owner, MPI_COMM_WORLD);
+            progress_line("stiffness", msg(body_name(b), ": factorised over ", P, " ranks (MUMPS's analysis, INFOG(16): up to ",
+                                           per_rank, " MB per rank)"));
+          }
+        if (member_of >= 0 && !deferred[member_of])
+          my_bodies.push_back(group_unit(static_cast<unsigned int>(member_of), group_ranks[static_cast<std::size_t>(member_of)]));
         for (unsigned int b = 0; b < 2; ++b)
           {
             shared[b]->between_work_units = nullptr; // `lending` ends here; later solves poll no one
             shared[b]->sharing            = nullptr; // and `sharing`: the fields' harmonics stay here
             shared[b]->share();
+            bodies_factorisation_MB[b] = shared[b]->factorisation_MB;
             const double      wall = shared[b]->wall_s;
             const std::size_t cut = shared[b]->n_cut_face_dofs();
             bodies[b]             = std::move(shared[b]);
             n_dofs_total += bodies[b]->n_dofs();
             report_body(b, s[b], wall);
             body_notes[body_name(b)]["cut_face_dofs"] = cut;
-            body_notes[body_name(b)]["rank"]          = b % static_cast<unsigned int>(processes::count());
+            body_notes[body_name(b)]["factorisation_memory_MB_per_rank"] = bodies_factorisation_MB[b];
+            body_notes[body_name(b)]["rank"]          = b % static_cast<unsigned int>(P);
+            body_notes[body_name(b)]["ranks"]         = groups || deferred[b] ? group_ranks[b] : std::vector<int>{static_cast<int>(b % static_cast<unsigned int>(P))};
           }
       }
 

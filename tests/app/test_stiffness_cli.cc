@@ -561,14 +561,17 @@ TEST(StiffnessCliMpi, TheTablesDoNotDependOnTheNumberOfRanks)
   // ranks (1e-12 relative), on the coarse 3D crowned pair with the FE force law's ladder (12
   // rungs) and a map of four cases: every rank solves the contact positions k = rank, rank + P,
   // ... of each stage on the same FE tables, and every rank assembles each cycle from the same
-  // positions; ranks without a body, and a rank whose body is done, solve cyclic harmonics of the
-  // other bodies (fem/harmonic_sharing.h). Every unit is the same code whichever rank runs it;
-  // what may differ is the order of sums: the threaded BLAS's (two threads serially, one per rank
-  // under mpirun) and that of the harmonics' contributions to a body's interface. The
-  // bound is 1e-12 relative, and 1e-12 in a CSV column's own unit for values that are zero to
-  // round-off (the contact centre of the symmetric crowned pair, about 1e-15 mm, which moves by
-  // that much). Each rank reports the positions it solved: together every position of every cycle
-  // once, shared out within one per stage.
+  // positions; on two ranks the rank whose body is done solves cyclic harmonics of the other's
+  // (fem/harmonic_sharing.h); from three ranks on each body is factorised, solved and its
+  // harmonics summed by a group of ranks (fem/sector_group.h: MUMPS's factorisation spread over
+  // the group, with the ordering of one process). What may differ is the order of sums: the
+  // threaded BLAS's (two threads serially, one per rank under mpirun), that of the harmonics'
+  // contributions to a body's interface, and that of the fronts' contributions in a factorisation
+  // spread over ranks (measured: 2.4e-13 relative at P = 4). The bound is 1e-12 relative, and
+  // 1e-12 in a CSV column's own unit for values that are zero to round-off (the contact centre of
+  // the symmetric crowned pair, about 1e-15 mm, which moves by that much). Each rank reports the
+  // positions it solved: together every position of every cycle once, shared out within one per
+  // stage.
   if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
     GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
   const std::string settings = coarse + " --set Effects/mesh_force_law=fe-map --set Output/write_fields=false"
@@ -598,14 +601,22 @@ TEST(StiffnessCliMpi, TheTablesDoNotDependOnTheNumberOfRanks)
         }
       EXPECT_EQ(total, 5u * (1 + 4 + 11)) << ranks_json.dump(1);
       EXPECT_LE(most - least, 3u) << "three stages, each shared within one: " << ranks_json.dump(1);
-      // A rank without a body says it is free at once, and each owner reaches its harmonics
-      // after its sector's factorisation (over half a second here), so from P = 3 on the ranks
-      // without a body solve harmonics of the gear (18 of them, and the pinion's 12, shared out
-      // while the owners work).
-      for (int r = 2; r < ranks; ++r)
+      // From P = 3 on ranks 2, 3, ... join the bodies' groups in turn, the gear (more teeth)
+      // first: P = 3 gear on ranks 1, 2; P = 4 pinion on 0, 3 and gear on 1, 2. Each rank of a
+      // group reports the body as its work unit.
+      if (ranks >= 3)
         {
-          const auto &helped = ranks_json[r].at("harmonics_helped");
-          EXPECT_TRUE(helped.contains("gear") && helped.at("gear").get<int>() > 0) << ranks_json.dump(1);
+          const auto &bodies = json.at("fe").at("bodies");
+          EXPECT_EQ(bodies.at("gear").at("ranks"), nlohmann::json::array({1, 2})) << bodies.dump(1);
+          EXPECT_EQ(bodies.at("pinion").at("ranks"),
+                    ranks == 3 ? nlohmann::json::array({0}) : nlohmann::json::array({0, 3}))
+            << bodies.dump(1);
+          EXPECT_EQ(ranks_json[2].at("work_units"), nlohmann::json::array({"gear (ranks 1, 2)"})) << ranks_json.dump(1);
+          if (ranks == 4)
+            {
+              EXPECT_EQ(ranks_json[3].at("work_units"), nlohmann::json::array({"pinion (ranks 0, 3)"}))
+                << ranks_json.dump(1);
+            }
         }
       if (ranks == 1)
         {
@@ -629,16 +640,19 @@ TEST(StiffnessCliMpi, TheTablesDoNotDependOnTheNumberOfRanks)
     }
 }
 
-TEST(StiffnessCliMpi, MoreRanksThanBodiesWarnAndGiveTheSerialTable)
+TEST(StiffnessCliMpi, MoreRanksThanBodiesWithFieldsWarnAndGiveTheSerialTable)
 {
-  // Requirement (bad input of the MPI stage): more ranks than a pair has bodies on full gears is
-  // a warning, not a hang and not an error: under `mpirun -np 3` the stage says that rank 2 waits
-  // for the two bodies and then shares the contact positions, ends with exit 0 and writes the
-  // serial table (1e-10 relative: the order of BLAS sums only, as for two ranks).
+  // Requirement (bad input of the MPI stage): more ranks than a pair has bodies on full gears,
+  // when the bodies' fields are written (their solves come after the stage's collective calls, so
+  // no group of ranks builds a body), is a warning, not a hang and not an error: under `mpirun -np
+  // 3` the stage says that rank 2 only helps with the harmonics and then shares the contact
+  // positions, ends with exit 0 and writes the serial table (1e-10 relative: the order of BLAS
+  // sums and of the harmonics' contributions only, as for two ranks).
   if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
     GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
   std::string err;
-  const fs::path mpi = serial_and_ranks(" --set Output/write_fields=false", 1e-10, 3, &err);
+  const fs::path mpi = serial_and_ranks("", 1e-10, 3, &err);
+  EXPECT_TRUE(fs::exists(mpi / "fields" / "gear_0000.pvtu"));
   // The rank without a body reports no body and its share of the 5 positions (position 3, k = 2).
   const auto ranks = nlohmann::json::parse(slurp(mpi / "stiffness.json"))["fe"]["ranks"];
   ASSERT_EQ(ranks.size(), 3u) << ranks.dump(1);
@@ -646,8 +660,33 @@ TEST(StiffnessCliMpi, MoreRanksThanBodiesWarnAndGiveTheSerialTable)
   EXPECT_EQ(ranks[2]["contact_positions"].get<int>(), 1) << ranks.dump(1);
   EXPECT_NE(err.find("rank 2: no body, "), std::string::npos) << err;
   EXPECT_NE(err.find("1 contact position;"), std::string::npos) << err;
-  EXPECT_NE(err.find("warning: 3 ranks, but a pair on full gears has two bodies"), std::string::npos) << err;
+  EXPECT_NE(err.find("warning: 3 ranks, but a pair on full gears whose fields are written has two bodies"),
+            std::string::npos)
+    << err;
   EXPECT_EQ(err.find("warning: 3 ranks"), err.rfind("warning: 3 ranks")) << "said once: " << err;
+}
+
+TEST(StiffnessCliMpi, ThreeRanksBuildTheGearAsAGroupAndGiveTheSerialTable)
+{
+  // Requirement (MPI scaling): under `mpirun -np 3` without fields rank 2 joins the gear's group
+  // (the gear has more teeth): the gear's sector is factorised by MUMPS over ranks 1 and 2, its
+  // interior solves and harmonics run on both, the stage says so in a line naming the groups,
+  // ends with exit 0 and writes the serial table (1e-10 relative, as for two ranks; the tables'
+  // own bound, 1e-12, is TheTablesDoNotDependOnTheNumberOfRanks's).
+  if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
+    GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
+  std::string    err;
+  const fs::path mpi = serial_and_ranks(" --set Output/write_fields=false", 1e-10, 3, &err);
+  EXPECT_NE(err.find("note: 3 ranks for a pair on full gears: each body is factorised, solved and its harmonics "
+                     "summed by a group of ranks (pinion: rank 0; gear: ranks 1, 2)"),
+            std::string::npos)
+    << err;
+  EXPECT_NE(err.find("rank 2: gear (ranks 1, 2), 1 contact position;"), std::string::npos) << err;
+  const auto json = nlohmann::json::parse(slurp(mpi / "stiffness.json"));
+  EXPECT_EQ(json["fe"]["bodies"]["gear"]["ranks"], nlohmann::json::array({1, 2}));
+  // The member's memory: no mesh and no matrix, its share of the factors and D, E.
+  const auto ranks = json["fe"]["ranks"];
+  EXPECT_LT(ranks[2]["peak_memory_GiB"].get<double>(), ranks[1]["peak_memory_GiB"].get<double>()) << ranks.dump(1);
 }
 
 TEST(StiffnessCliMpi, MoreRanksThanContactPositionsWarnAndGiveTheSerialTable)
@@ -678,14 +717,58 @@ TEST(StiffnessCliMpi, AFailureOfOneRanksBodyEndsBothRanks)
   // that fails on one rank while the other rank's body succeeds must end both ranks promptly
   // with the failure's exit code and message and no table. The MUMPS memory guard makes the
   // failure one-sided: at the default level with 3 positions MUMPS estimates 7 MB for the
-  // pinion's sector and 9 MB for the gear's, so a limit of 8 MB stops the gear alone. `timeout`
+  // pinion's sector and a little over 8 MB for the gear's (INFOG(16) rounds it to 8), so a limit
+  // of 8 MB stops the gear alone (a body whose fields are written is not retried over both ranks,
+  // ABodyTooLargeForOneRankIsFactorisedOverAllRanks). `timeout`
   // turns a rank that waits forever into exit 124 instead of a hung test.
   if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
     GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
   expect_stopped_by_memory_guard(scene_path("paper_uncrowned.prm") +
                                    " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1",
                                  fresh_temp_dir("stiffness_mpi2_failure"), 8,
-                                 "timeout 120 mpirun -np 2 --oversubscribe", "estimates 9 MB per process");
+                                 "timeout 120 mpirun -np 2 --oversubscribe", "estimates 8 MB per process");
+}
+
+TEST(StiffnessCliMpi, ABodyTooLargeForOneRankIsFactorisedOverAllRanks)
+{
+  // Requirement (memory per rank): a full gear whose sector factorisation does not fit the memory
+  // one rank may use takes the distributed path: MUMPS's analysis estimates its memory per process
+  // against the limit (ICNTL(23), here PETSC_OPTIONS -mat_mumps_icntl_23 8), the body is left
+  // until the other one is built and is then factorised over every rank (fem/sector_group.h),
+  // with a line saying so. At the default level with 3 positions MUMPS estimates 7 MB for the
+  // pinion's sector and 8 MB for the gear's on one process (INFOG(16) rounds; above 8 MB it stops),
+  // so a limit of 8 MB leaves the gear alone. The table equals the serial one run without a limit
+  // (1e-10 relative: the order of sums only, as for two ranks). A limit that no group of two
+  // fits (2 MB) ends the run with exit 3, the estimate in the message, and no table.
+  if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
+    GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
+  const std::string settings = scene_path("paper_uncrowned.prm") +
+                               " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1"
+                               " --set Output/write_fields=false";
+  const fs::path serial = fresh_temp_dir("stiffness_large_serial");
+  const fs::path mpi    = fresh_temp_dir("stiffness_large_mpi2");
+  const auto     r1     = run_hertzgear("stiffness " + settings + " --out " + serial.string());
+  ASSERT_EQ(r1.exit_code, 0) << r1.err;
+  const auto r2 = run_hertzgear("stiffness " + settings + " --out " + mpi.string(),
+                                "env PETSC_OPTIONS='-mat_mumps_icntl_23 8' timeout 300 mpirun -np 2 --oversubscribe");
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  EXPECT_THAT(r2.err, HasSubstr("gear: MUMPS estimates 8 MB per process for its sector's factorisation on 1 rank, "
+                                "more than the 8 MB per rank it may use: it is factorised over all 2 ranks, after "
+                                "the other body"));
+  EXPECT_THAT(r2.err, HasSubstr("gear: factorised over 2 ranks (MUMPS's analysis, INFOG(16): up to "));
+  EXPECT_EQ(r2.err.find("pinion: MUMPS estimates"), std::string::npos) << r2.err;
+  const auto json = nlohmann::json::parse(slurp(mpi / "stiffness.json"));
+  EXPECT_EQ(json["fe"]["bodies"]["gear"]["ranks"], nlohmann::json::array({1, 0}));
+  EXPECT_GT(json["fe"]["bodies"]["gear"]["factorisation_memory_MB_per_rank"].get<long>(), 0);
+  const auto a = csv_rows(slurp(serial / "stiffness.csv"));
+  const auto b = csv_rows(slurp(mpi / "stiffness.csv"));
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t j = 0; j < a[i].size(); ++j)
+      EXPECT_NEAR(b[i][j], a[i][j], 1e-10 * std::max(1.0, std::abs(a[i][j]))) << "row " << i << " column " << j;
+
+  expect_stopped_by_memory_guard(settings, fresh_temp_dir("stiffness_large_mpi2_fails"), 2,
+                                 "timeout 300 mpirun -np 2 --oversubscribe", "MB per process");
 }
 
 TEST(StiffnessCliMpi, ARankKilledMidRunEndsTheJobWithoutATable)

@@ -11,6 +11,7 @@
 #include "fem/elastic_body.h"
 #include "fem/flank_compliance.h"
 #include "fem/harmonic_sharing.h"
+#include "fem/sector_group.h"
 #include "meshing/gear_body_mesher.h"
 #include "meshing/pair_kinematics.h"
 #include "tests/support/spur_pair.h"
@@ -355,4 +356,44 @@ TEST(CyclicGearBodyMpi, HarmonicsSolvedByAHelperWithoutTheSectorGiveTheTableOfOn
       ASSERT_EQ(sharing.harmonics_helped().count(0), 1u);
       EXPECT_GT(sharing.harmonics_helped().at(0), 0);
     }
+}
+
+TEST(CyclicGearBodyMpi, ASectorFactorisedByAGroupGivesTheTableOfOne)
+{
+  // Requirement (fem/sector_group.h): a full gear built by a group of ranks, rank 0 holding the
+  // sector and rank 1 nothing but its share of MUMPS's factors, D and E, gives the table of rank 0
+  // built alone. The factorisation over two processes uses the ordering of one; its fronts'
+  // contributions and the harmonics' sums run in another order, so the tables agree to round-off:
+  // 1e-12 relative, as for the harmonics shared by a communicator. Run under mpirun -np 2
+  // (fem.cyclic_gear_body_mpi2).
+  const int size = static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
+  if (size != 2)
+    GTEST_SKIP() << "needs two ranks";
+  const meshing::PairKinematics kin(small_pair(20.0));
+  const int rank = static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD));
+  const auto s   = table_settings(kin.pinion(), 2);
+  if (rank == 0)
+    {
+      const auto msh = sector_mesh(kin, 2, "group_r0");
+      dealii::Triangulation<2> sector;
+      fem::read_gmsh_mesh(msh.string(), sector);
+      std::filesystem::remove(msh);
+      Eigen::MatrixXd tables[2];
+      for (const int grouped : {0, 1})
+        {
+          fem::SectorGroup                           group(grouped ? MPI_COMM_WORLD : MPI_COMM_SELF);
+          typename fem::CyclicGearBody<2>::Parameters cp;
+          cp.body         = body_parameters<2>();
+          cp.n_teeth      = static_cast<unsigned int>(kin.pinion().n_teeth());
+          cp.sector_group = &group;
+          fem::CyclicGearBody<2> cyclic(sector, cp);
+          cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
+          cyclic.run();
+          tables[grouped] = fem::TabulatedFlankCompliance<2>(cyclic, kin.pinion(), 0, s).matrix();
+        }
+      const double difference = (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
+      EXPECT_LT(difference, 1e-12);
+    }
+  else
+    EXPECT_GT(fem::serve_sector_group(MPI_COMM_WORLD), 0.0) << "rank 1 worked for the group";
 }

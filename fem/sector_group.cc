@@ -1,0 +1,435 @@
+#include "fem/sector_group.h"
+
+#include "common/errors.h"
+#include "fem/harmonic_sharing.h"
+#include "fem/petsc_ksp.h"
+
+#include <dmumps_c.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <limits>
+#include <string>
+#include <thread>
+
+namespace hertzgear::fem
+{
+  namespace
+  {
+    constexpr int command_tag = 5300;
+    enum Command : long
+    {
+      factorise_command = 1,
+      solve_command     = 2,
+      harmonics_command = 3,
+      blocks_command    = 4,
+      round_command     = 5,
+      dismiss_command   = 6
+    };
+
+    int rank_of(MPI_Comm comm)
+    {
+      int r = 0;
+      MPI_Comm_rank(comm, &r);
+      return r;
+    }
+
+    // The owner's next command to this member, tested for every millisecond.
+    std::vector<long> next_command(MPI_Comm group)
+    {
+      MPI_Status status;
+      for (int flag = 0;;)
+        {
+          MPI_Iprobe(0, command_tag, group, &flag, &status);
+          if (flag != 0)
+            break;
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+      int length = 0;
+      MPI_Get_count(&status, MPI_LONG, &length);
+      std::vector<long> message(static_cast<std::size_t>(length));
+      MPI_Recv(message.data(), length, MPI_LONG, 0, command_tag, group, MPI_STATUS_IGNORE);
+      return message;
+    }
+
+    int size_of(MPI_Comm comm)
+    {
+      int s = 1;
+      MPI_Comm_size(comm, &s);
+      return s;
+    }
+
+    void broadcast_matrix(Eigen::MatrixXd &a, MPI_Comm comm)
+    {
+      long dims[2] = {static_cast<long>(a.rows()), static_cast<long>(a.cols())};
+      MPI_Bcast(dims, 2, MPI_LONG, 0, comm);
+      if (rank_of(comm) != 0)
+        a.resize(dims[0], dims[1]);
+      MPI_Bcast(a.data(), static_cast<int>(a.size()), MPI_DOUBLE, 0, comm);
+    }
+  } // namespace
+
+  struct SectorFactorisation::Mumps
+  {
+    DMUMPS_STRUC_C        id{};
+    bool                  initialised = false;
+    std::vector<MUMPS_INT> irn, jcn, schur_list;
+    std::vector<double>    a;
+    int                    rank = 0, processes = 1;
+    std::array<long, 2>    estimate_MB = {0, 0}; // the analysis' INFOG(16), INFOG(17)
+
+    void call(const int job, const char *what)
+    {
+      id.job = job;
+      dmumps_c(&id);
+      if (id.infog[0] >= 0)
+        return;
+      const std::string text = msg("the MUMPS ", what, " failed: INFOG(1) = ", id.infog[0], ", INFOG(2) = ",
+                                   id.infog[1], ": ",
+                                   mumps_failure_reason(id.infog[0], id.infog[15], id.infog[16], id.icntl[22]));
+      if (id.infog[0] == -19)
+        throw FactorisationTooLarge(text, id.infog[15], id.icntl[22], processes);
+      throw NumericalError(text);
+    }
+    ~Mumps()
+    {
+      if (initialised)
+        {
+          id.job = -2;
+          dmumps_c(&id);
+        }
+    }
+  };
+
+  SectorFactorisation::SectorFactorisation(MPI_Comm comm, Mat K, const PetscInt n,
+                                           const std::vector<PetscInt> &schur_rows, const long memory_limit_MB)
+    : mumps(std::make_unique<Mumps>())
+  {
+    auto &m     = *mumps;
+    m.rank      = rank_of(comm);
+    m.processes = size_of(comm);
+    auto &id    = m.id;
+    id.sym      = 1; // symmetric positive definite
+    id.par      = 1; // the host works too
+    id.comm_fortran = static_cast<MUMPS_INT>(MPI_Comm_c2f(comm));
+    m.call(-1, "initialisation");
+    m.initialised = true;
+    // Quiet, as PETSc keeps it; the sequential analysis (one ordering for every group size).
+    id.icntl[0] = -1;
+    id.icntl[1] = -1;
+    id.icntl[2] = -1;
+    id.icntl[3] = 0;
+    id.icntl[27] = 1;
+    // The memory guard: at most this per process (ICNTL(23), MB).
+    const long limit = memory_limit_MB > 0 ? memory_limit_MB : available_memory_MB_per_rank(comm);
+    id.icntl[22] = static_cast<MUMPS_INT>(std::min<long>(limit, std::numeric_limits<MUMPS_INT>::max()));
+    // PETSC_OPTIONS -mat_mumps_icntl_<i>, as for PETSc's own MUMPS factorisations.
+    for (int i = 1; i <= 60; ++i)
+      {
+        PetscInt  value = 0;
+        PetscBool set   = PETSC_FALSE;
+        const std::string name = "-mat_mumps_icntl_" + std::to_string(i);
+        check_petsc(PetscOptionsGetInt(nullptr, nullptr, name.c_str(), &value, &set), "PetscOptionsGetInt");
+        if (set)
+          id.icntl[i - 1] = static_cast<MUMPS_INT>(value);
+      }
+    id.n = static_cast<MUMPS_INT>(n);
+    if (m.rank == 0)
+      {
+        // The upper triangle of K (1-based), assembled on the host (ICNTL(5) = 0, ICNTL(18) = 0).
+        Mat       local  = K;
+        PetscBool is_mpi = PETSC_FALSE;
+        check_petsc(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(K), MATMPIAIJ, &is_mpi),
+                    "PetscObjectTypeCompare");
+        if (is_mpi)
+          check_petsc(MatMPIAIJGetSeqAIJ(K, &local, nullptr, nullptr), "MatMPIAIJGetSeqAIJ");
+        for (PetscInt r = 0; r < n; ++r)
+          {
+            PetscInt           n_cols = 0;
+            const PetscInt    *cols   = nullptr;
+            const PetscScalar *vals   = nullptr;
+            check_petsc(MatGetRow(local, r, &n_cols, &cols, &vals), "MatGetRow");
+            for (PetscInt k = 0; k < n_cols; ++k)
+              if (cols[k] >= r)
+                {
+                  m.irn.push_back(static_cast<MUMPS_INT>(r + 1));
+                  m.jcn.push_back(static_cast<MUMPS_INT>(cols[k] + 1));
+                  m.a.push_back(vals[k]);
+                }
+            check_petsc(MatRestoreRow(local, r, &n_cols, &cols, &vals), "MatRestoreRow");
+          }
+        id.nnz = static_cast<MUMPS_INT8>(m.a.size());
+        id.irn = m.irn.data();
+        id.jcn = m.jcn.data();
+        id.a   = m.a.data();
+        for (const auto r : schur_rows)
+          m.schur_list.push_back(static_cast<MUMPS_INT>(r + 1));
+        id.size_schur    = static_cast<MUMPS_INT>(m.schur_list.size());
+        id.listvar_schur = m.schur_list.data();
+        schur_values.assign(m.schur_list.size() * m.schur_list.size(), 0.0);
+        id.schur = schur_values.data();
+      }
+    // The Schur complement centralized on the host (ICNTL(19) = 1).
+    id.icntl[18] = 1;
+    m.call(1, "analysis");
+    m.estimate_MB = {id.infog[15], id.infog[16]};
+    m.call(2, "factorisation");
+    // The matrix itself is no longer needed.
+    std::vector<MUMPS_INT>().swap(m.irn);
+    std::vector<MUMPS_INT>().swap(m.jcn);
+    std::vector<double>().swap(m.a);
+    // Solves from now on are solves with the interior block alone: the Schur rows of the
+    // right-hand side are ignored, those of the solution are 0 (ICNTL(26) = 0).
+    id.icntl[25] = 0;
+  }
+
+  SectorFactorisation::~SectorFactorisation() = default;
+
+  long SectorFactorisation::estimated_memory_MB_per_process() const { return mumps->estimate_MB[0]; }
+  long SectorFactorisation::estimated_memory_MB_in_all() const { return mumps->estimate_MB[1]; }
+
+  std::vector<double> SectorFactorisation::schur(PetscInt &n_s) const
+  {
+    n_s = static_cast<PetscInt>(mumps->schur_list.size());
+    const std::size_t   ns = static_cast<std::size_t>(n_s);
+    std::vector<double> dense(ns * ns);
+    // MUMPS returns the lower triangle by rows (ICNTL(19) = 1, a symmetric matrix).
+    for (std::size_t i = 0; i < ns; ++i)
+      for (std::size_t j = 0; j <= i; ++j)
+        dense[j * ns + i] = dense[i * ns + j] = schur_values[i * ns + j];
+    return dense;
+  }
+
+  void SectorFactorisation::solve(const PetscInt n_columns, const std::vector<Vec> &rhs,
+                                  const std::vector<Vec> &solution) const
+  {
+    auto &m  = *mumps;
+    auto &id = m.id;
+    if (n_columns == 0)
+      return;
+    const std::size_t   n = static_cast<std::size_t>(id.n);
+    std::vector<double> block;
+    if (m.rank == 0)
+      {
+        HG_REQUIRE_INPUT(rhs.size() == static_cast<std::size_t>(n_columns) && solution.size() == rhs.size(),
+                         "SectorFactorisation::solve: ", rhs.size(), " right-hand sides and ", solution.size(),
+                         " solutions for ", n_columns, " columns");
+        block.resize(n * rhs.size());
+        for (std::size_t j = 0; j < rhs.size(); ++j)
+          {
+            const PetscScalar *b = nullptr;
+            check_petsc(VecGetArrayRead(rhs[j], &b), "VecGetArrayRead");
+            std::copy(b, b + n, block.begin() + static_cast<std::ptrdiff_t>(j * n));
+            check_petsc(VecRestoreArrayRead(rhs[j], &b), "VecRestoreArrayRead");
+          }
+        id.rhs  = block.data();
+        id.lrhs = id.n;
+      }
+    id.nrhs      = static_cast<MUMPS_INT>(n_columns);
+    id.icntl[19] = 0; // dense right-hand sides on the host
+    id.icntl[20] = 0; // the solutions back on the host, in place
+    m.call(3, "substitution");
+    if (m.rank == 0)
+      for (std::size_t j = 0; j < solution.size(); ++j)
+        {
+          PetscScalar *x = nullptr;
+          check_petsc(VecGetArrayWrite(solution[j], &x), "VecGetArrayWrite");
+          std::copy(block.begin() + static_cast<std::ptrdiff_t>(j * n),
+                    block.begin() + static_cast<std::ptrdiff_t>((j + 1) * n), x);
+          check_petsc(VecRestoreArrayWrite(solution[j], &x), "VecRestoreArrayWrite");
+        }
+    id.rhs = nullptr;
+  }
+
+  namespace
+  {
+    // The end of a call's harmonics on every process of the group: a failure anywhere fails
+    // every process; the sums go to every process.
+    void reduce_harmonics(MPI_Comm comm, std::map<int, Eigen::MatrixXd> &u, const std::string &failure)
+    {
+      int failed = failure.empty() ? 0 : 1, any = 0;
+      MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm);
+      if (any != 0)
+        throw NumericalError(failure.empty() ? std::string("a cyclic harmonic solved by another process of the "
+                                                           "group failed: its cut-face matrix is not positive "
+                                                           "definite") :
+                                               failure);
+      for (auto &[s, us] : u)
+        MPI_Allreduce(MPI_IN_PLACE, us.data(), static_cast<int>(us.size()), MPI_DOUBLE, MPI_SUM, comm);
+    }
+
+    // Adds harmonic k unless an earlier one failed (then the failure is kept for the reduction).
+    void add_harmonic(const int k, const int N, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
+                      const std::map<int, Eigen::MatrixXd> &q, const int s_min, const int s_max,
+                      std::map<int, Eigen::MatrixXd> &u, std::string &failure)
+    {
+      if (!failure.empty())
+        return;
+      try
+        {
+          add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u);
+        }
+      catch (const std::exception &e)
+        {
+          failure = e.what();
+        }
+    }
+
+    std::map<int, Eigen::MatrixXd> zero_interface(const Eigen::Index n, const Eigen::Index m, const int s_min,
+                                                  const int s_max)
+    {
+      std::map<int, Eigen::MatrixXd> u;
+      for (int s = s_min; s <= s_max; ++s)
+        u[s] = Eigen::MatrixXd::Zero(n, m);
+      return u;
+    }
+  } // namespace
+
+  SectorGroup::SectorGroup(MPI_Comm g) : group(g), n_processes(size_of(g)) {}
+
+  SectorGroup::~SectorGroup()
+  {
+    try
+      {
+        dismiss();
+      }
+    catch (...)
+      {}
+  }
+
+  void SectorGroup::command(const int kind, const std::vector<long> &arguments) const
+  {
+    std::vector<long> message = {kind};
+    message.insert(message.end(), arguments.begin(), arguments.end());
+    for (int r = 1; r < n_processes; ++r)
+      MPI_Send(message.data(), static_cast<int>(message.size()), MPI_LONG, r, command_tag, group);
+  }
+
+  void SectorGroup::factorise(Mat K, const PetscInt n, const std::vector<PetscInt> &schur_rows,
+                              const long memory_limit_MB)
+  {
+    HG_REQUIRE_INPUT(!dismissed && !factors, "SectorGroup::factorise: called twice or after dismiss");
+    command(factorise_command, {static_cast<long>(n), memory_limit_MB});
+    factors = std::make_unique<SectorFactorisation>(group, K, n, schur_rows, memory_limit_MB);
+  }
+
+  void SectorGroup::send_interface_blocks(const Eigen::MatrixXd &D, const Eigen::MatrixXd &E) const
+  {
+    if (!shared())
+      return;
+    command(blocks_command, {});
+    Eigen::MatrixXd d = D, e = E;
+    broadcast_matrix(d, group);
+    broadcast_matrix(e, group);
+  }
+
+  void SectorGroup::solve(const PetscInt n_columns, const std::vector<Vec> &rhs,
+                          const std::vector<Vec> &solution) const
+  {
+    command(solve_command, {static_cast<long>(n_columns)});
+    factors->solve(n_columns, rhs, solution);
+  }
+
+  std::map<int, Eigen::MatrixXd> SectorGroup::harmonics(const int n_teeth, const Eigen::MatrixXd &D,
+                                                        const Eigen::MatrixXd &E,
+                                                        const std::map<int, Eigen::MatrixXd> &q, const int s_min,
+                                                        const int s_max, std::deque<int> todo,
+                                                        const std::function<void(std::deque<int> &)> &between_rounds) const
+  {
+    std::vector<long> header = {n_teeth, s_min, s_max};
+    for (const auto &[s, qs] : q)
+      header.push_back(s);
+    command(harmonics_command, header);
+    for (const auto &[s, qs] : q)
+      {
+        Eigen::MatrixXd copy = qs;
+        broadcast_matrix(copy, group);
+      }
+    auto        u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
+    std::string failure;
+    while (!todo.empty())
+      {
+        if (between_rounds)
+          between_rounds(todo);
+        // One harmonic per process, the owner's first.
+        std::vector<long> round;
+        while (!todo.empty() && static_cast<int>(round.size()) < n_processes)
+          {
+            round.push_back(todo.front());
+            todo.pop_front();
+          }
+        command(round_command, round);
+        add_harmonic(static_cast<int>(round[0]), n_teeth, D, E, q, s_min, s_max, u, failure);
+      }
+    command(round_command, {}); // the end of the call
+    reduce_harmonics(group, u, failure);
+    return u;
+  }
+
+  void SectorGroup::dismiss()
+  {
+    if (dismissed)
+      return;
+    dismissed = true;
+    command(dismiss_command, {});
+    factors.reset(); // collective with the members' own
+  }
+
+  double serve_sector_group(MPI_Comm group)
+  {
+    std::unique_ptr<SectorFactorisation> factors;
+    Eigen::MatrixXd                      D, E;
+    double                               busy_s = 0;
+    while (true)
+      {
+        const std::vector<long> message = next_command(group);
+        const auto t0 = std::chrono::steady_clock::now();
+        switch (message.at(0))
+          {
+            case factorise_command:
+              try
+                {
+                  factors = std::make_unique<SectorFactorisation>(group, nullptr, static_cast<PetscInt>(message.at(1)),
+                                                                  std::vector<PetscInt>{}, message.at(2));
+                }
+              catch (const FactorisationTooLarge &)
+                {
+                  // The owner decides: it dismisses the group, and may try a larger one.
+                }
+              break;
+            case blocks_command:
+              broadcast_matrix(D, group);
+              broadcast_matrix(E, group);
+              break;
+            case solve_command:
+              factors->solve(static_cast<PetscInt>(message.at(1)), std::vector<Vec>{}, std::vector<Vec>{});
+              break;
+            case harmonics_command:
+              {
+                const int N = static_cast<int>(message.at(1)), s_min = static_cast<int>(message.at(2)),
+                          s_max = static_cast<int>(message.at(3));
+                std::map<int, Eigen::MatrixXd> q;
+                for (std::size_t i = 4; i < message.size(); ++i)
+                  broadcast_matrix(q[static_cast<int>(message[i])], group);
+                auto        u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
+                std::string failure;
+                const int   me = rank_of(group);
+                // Rounds until an empty one.
+                for (auto round = next_command(group); round.size() > 1; round = next_command(group))
+                  if (static_cast<std::size_t>(me) < round.size() - 1)
+                    add_harmonic(static_cast<int>(round[static_cast<std::size_t>(me) + 1]), N, D, E, q, s_min, s_max,
+                                 u, failure);
+                reduce_harmonics(group, u, failure);
+              }
+              break;
+            case dismiss_command:
+              factors.reset(); // with the owner's
+              return busy_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            default:
+              throw NumericalError(msg("sector group: unknown command ", message.at(0)));
+          }
+        busy_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+  }
+} // namespace hertzgear::fem

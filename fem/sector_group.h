@@ -1,0 +1,144 @@
+#pragma once
+// One tooth sector of a full gear factorised and solved by a group of processes.
+//
+// Under mpirun with more ranks than a pair has bodies, each full gear (fem/cyclic_gear_body.h) is
+// built by a group of ranks. Its owner, rank 0 of the group, reads the sector mesh, assembles K,
+// pairs the cut faces, builds every load and reading, exactly as alone. Three parts of the work
+// run over the whole group:
+//   - the sparse factorisation of K with the Schur complement on the cut faces: MUMPS spreads its
+//     fronts and factors over the group's processes (the owner's matrix is handed over as one
+//     distributed matrix whose rows all lie on the owner; the ordering is the sequential one of
+//     one process), and returns the dense Schur complement to the owner (ICNTL(19) = 1);
+//   - the interior solves: each block of right-hand sides goes in from the owner and its
+//     solutions come back to it, the substitution itself runs on every process of the group;
+//   - the cyclic harmonics H_k u^_k = q^_k: they go out in rounds of one per process of the group,
+//     and their sum is reduced onto the owner (the members hold D and E, 2 n^2 doubles, sent
+//     once, and the condensed loads q of the call); between rounds the owner may give harmonics to
+//     ranks outside the group whose own work is done (fem/harmonic_sharing.h).
+// The other ranks of the group hold no mesh: they run serve_sector_group, which follows the
+// owner's commands until the owner dismisses them. Commands go from the owner to each member
+// point to point; a member waits for the next without spinning (a test every millisecond); the
+// data of a command then goes in calls collective over the group.
+//
+// Memory: the factors are spread over the group (MUMPS's INFO(16) per process), so a sector too
+// large for one rank's memory fits on a group of several; the owner holds in addition the whole
+// matrix K and the dense Schur complement.
+//
+// The sums of a parallel factorisation and of the harmonics run in another order than on one
+// process: a body built by a group equals the one of a single process to round-off, not bit for
+// bit (docs/accuracy-stiffness.md, "MPI: what runs where", gives the measured differences).
+#include "common/errors.h"
+
+#include <Eigen/Dense>
+
+#include <petscmat.h>
+
+#include <mpi.h>
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hertzgear::fem
+{
+  // A factorisation whose analysis estimates more memory per process than its limit (MUMPS
+  // INFOG(1) = -19): thrown on every rank of the group before anything large is allocated, so that
+  // the caller may try a larger group.
+  class FactorisationTooLarge : public NumericalError
+  {
+  public:
+    FactorisationTooLarge(const std::string &what, long estimate_MB, long limit_MB, int processes)
+      : NumericalError(what), estimate_MB_per_process(estimate_MB), limit_MB_per_process(limit_MB),
+        processes(processes)
+    {}
+    long estimate_MB_per_process, limit_MB_per_process;
+    int  processes;
+  };
+
+  // The MUMPS Cholesky (LDL^T) factorisation of a sector's symmetric positive definite K with its
+  // Schur complement on the cut-face rows, on one process or over a group, through MUMPS's own C
+  // interface: PETSc's MUMPS interface forms a Schur complement on one process only (its
+  // MatMatSolve refuses one made over several). The controls are PETSc's: MUMPS's defaults, and
+  // PETSC_OPTIONS "-mat_mumps_icntl_<i> <value>" sets ICNTL(i) here too. Memory guard as in
+  // fem/petsc_ksp.h (ICNTL(23), the memory available per rank or `memory_limit_MB`).
+  class SectorFactorisation
+  {
+  public:
+    // Collective over `comm`. Rank 0 passes its K (sequential, or an MPI matrix of one process)
+    // and the Schur rows; the other ranks pass nullptr, K's size n and no rows. MUMPS's
+    // analysis is the sequential one (ICNTL(28) = 1) on every group size, so that the ordering
+    // does not depend on it. Throws NumericalError (on every rank) if MUMPS fails.
+    SectorFactorisation(MPI_Comm comm, Mat K, PetscInt n, const std::vector<PetscInt> &schur_rows,
+                        long memory_limit_MB);
+    ~SectorFactorisation(); // collective over `comm`
+    SectorFactorisation(const SectorFactorisation &)            = delete;
+    SectorFactorisation &operator=(const SectorFactorisation &) = delete;
+
+    // On rank 0: the dense Schur complement (column-major, n_s x n_s).
+    std::vector<double> schur(PetscInt &n_s) const;
+    // Interior solves (cut rows held at zero), collective: rank 0 gives the right-hand sides and
+    // receives the solutions, the others pass none (fem/petsc_ksp.h, mumps_block_solve).
+    void solve(PetscInt n_columns, const std::vector<Vec> &rhs, const std::vector<Vec> &solution) const;
+
+    // MUMPS's estimate of the largest memory per process of the factorisation, and its sum
+    // over the processes [MB] (INFOG(16), INFOG(17) after the analysis).
+    long estimated_memory_MB_per_process() const;
+    long estimated_memory_MB_in_all() const;
+
+  private:
+    struct Mumps;
+    std::unique_ptr<Mumps> mumps;
+    std::vector<double>    schur_values; // on rank 0: by rows, the lower triangle
+  };
+
+  // The owner's side of a group.
+  class SectorGroup
+  {
+  public:
+    // `group`: the owner is its rank 0; with one process every call works alone.
+    explicit SectorGroup(MPI_Comm group);
+    // Dismisses the members if that was not done (also when the owner's work failed).
+    ~SectorGroup();
+    SectorGroup(const SectorGroup &)            = delete;
+    SectorGroup &operator=(const SectorGroup &) = delete;
+
+    int  size() const { return n_processes; }
+    bool shared() const { return n_processes > 1; }
+
+    // Factorises K over the group (see SectorFactorisation).
+    void factorise(Mat K, PetscInt n, const std::vector<PetscInt> &schur_rows, long memory_limit_MB);
+    // Sends the members the interface blocks D and E (after factorise, before harmonics).
+    void send_interface_blocks(const Eigen::MatrixXd &D, const Eigen::MatrixXd &E) const;
+    const SectorFactorisation &factorisation() const { return *factors; }
+    // Interior solves over the group.
+    void solve(PetscInt n_columns, const std::vector<Vec> &rhs, const std::vector<Vec> &solution) const;
+    // The interface displacements u_s, s = s_min .. s_max, summed over the harmonics `todo`
+    // (the owner's D and E, sent by send_interface_blocks). The harmonics go out in rounds, one
+    // to each process of the group; before each round `between_rounds` may take harmonics from
+    // the back of `todo` (for helpers outside the group, fem/harmonic_sharing.h). Throws
+    // NumericalError if a harmonic failed on any process of the group.
+    std::map<int, Eigen::MatrixXd> harmonics(int n_teeth, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
+                                             const std::map<int, Eigen::MatrixXd> &q, int s_min, int s_max,
+                                             std::deque<int>                             todo,
+                                             const std::function<void(std::deque<int> &)> &between_rounds) const;
+    // Ends the members' service and frees the factorisation, collectively. Idempotent.
+    void dismiss();
+
+  private:
+    MPI_Comm                             group;
+    int                                  n_processes = 1;
+    bool                                 dismissed   = false;
+    std::unique_ptr<SectorFactorisation> factors;
+
+    void command(int kind, const std::vector<long> &arguments) const;
+  };
+
+  // A member's side: follows the owner's commands until it is dismissed, and returns the wall
+  // time it spent on them [s] (not the waits between them). Throws the NumericalError of a failed
+  // factorisation or harmonic (the owner throws it too).
+  double serve_sector_group(MPI_Comm group);
+
+} // namespace hertzgear::fem
