@@ -231,11 +231,9 @@ namespace hertzgear::fem
                                                             schur_rows, parameters.body.factorisation_memory_limit_MB);
         factors = own_factors.get();
       }
-    PetscInt   n     = 0;
-    const auto dense = factors->schur(n);
-    HG_REQUIRE_NUMERIC(static_cast<std::size_t>(n) == 2 * n_a, "the Schur complement has ", n,
+    S = factors->take_schur(); // symmetric to the last bit: one triangle mirrored
+    HG_REQUIRE_NUMERIC(static_cast<std::size_t>(S.rows()) == 2 * n_a, "the Schur complement has ", S.rows(),
                        " rows, not ", 2 * n_a);
-    S = Eigen::Map<const Eigen::MatrixXd>(dense.data(), n, n);
     {
       // The cut rows of K, for the cut reactions (K x)_c of interior solutions.
       const Mat K = body.get_system_matrix();
@@ -253,7 +251,6 @@ namespace hertzgear::fem
       K_cut.resize(static_cast<Eigen::Index>(schur_rows.size()), static_cast<Eigen::Index>(body.n_dofs()));
       K_cut.setFromTriplets(entries.begin(), entries.end());
     }
-    S = 0.5 * (S + S.transpose()).eval();
     const Eigen::Index m    = static_cast<Eigen::Index>(n_a);
     const Eigen::MatrixXd S_BB_T = turn(S.bottomRightCorner(m, m), true).transpose(); // S_BB T
     D = S.topLeftCorner(m, m) + turn(S_BB_T, true);
@@ -334,6 +331,7 @@ namespace hertzgear::fem
     // Harmonics not started yet may go to helper processes (fem/harmonic_sharing.h).
     HarmonicSharing *sharing =
       only_harmonic < 0 && ranks == 1 && parameters.harmonic_sharing ? parameters.harmonic_sharing() : nullptr;
+    HarmonicWorkspace work;
     try
       {
         while (!todo.empty())
@@ -344,7 +342,7 @@ namespace hertzgear::fem
               sharing->lend(parameters.sharing_body, todo, N, D, E, q, s_min, s_max);
             const int k = todo.front();
             todo.pop_front();
-            add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u);
+            add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u, work);
           }
       }
     catch (...)

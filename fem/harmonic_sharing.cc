@@ -116,15 +116,17 @@ namespace hertzgear::fem
 
   void add_cyclic_harmonic(const int k, const int N, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
                            const std::map<int, Eigen::MatrixXd> &q, const int s_min, const int s_max,
-                           std::map<int, Eigen::MatrixXd> &u)
+                           std::map<int, Eigen::MatrixXd> &u, HarmonicWorkspace &work)
   {
     using dealii::types::blas_int;
     const Eigen::Index         n = D.rows();
     const Eigen::Index         m = q.begin()->second.cols();
     const std::complex<double> w = std::polar(1.0, 2.0 * M_PI * k / N);
-    Eigen::MatrixXcd H = D.cast<std::complex<double>>() + w * E.cast<std::complex<double>>() +
-                         std::conj(w) * E.transpose().cast<std::complex<double>>();
-    Eigen::MatrixXcd x = Eigen::MatrixXcd::Zero(n, m);
+    Eigen::MatrixXcd          &H = work.H;
+    Eigen::MatrixXcd          &x = work.x;
+    H = D.cast<std::complex<double>>() + w * E.cast<std::complex<double>>() +
+        std::conj(w) * E.transpose().cast<std::complex<double>>();
+    x.setZero(n, m);
     for (const auto &[s, qs] : q)
       x += std::polar(1.0 / N, -2.0 * M_PI * k * s / N) * qs.template cast<std::complex<double>>();
     const blas_int nn = static_cast<blas_int>(n), mm = static_cast<blas_int>(m);
@@ -328,8 +330,9 @@ namespace hertzgear::fem
                 std::string failure;
                 try
                   {
+                    HarmonicWorkspace work;
                     for (const int k : harmonics)
-                      add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u);
+                      add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u, work);
                   }
                 catch (const std::exception &e)
                   {

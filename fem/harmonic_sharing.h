@@ -36,9 +36,15 @@ namespace hertzgear::fem
   // displacements u_s, s = s_min .. s_max (u must hold these sectors): factorises
   // H_k = D + w^k E + w^-k E^T (w = exp(2 pi i / N)) and solves it for the harmonic k of the
   // condensed loads q (sector -> n x m). Throws NumericalError if H_k is not positive definite.
+  // `work` holds H_k and the harmonic's loads between calls, so that a run of harmonics reuses
+  // their memory instead of taking fresh pages for each.
+  struct HarmonicWorkspace
+  {
+    Eigen::MatrixXcd H, x;
+  };
   void add_cyclic_harmonic(int k, int N, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
                            const std::map<int, Eigen::MatrixXd> &q, int s_min, int s_max,
-                           std::map<int, Eigen::MatrixXd> &u);
+                           std::map<int, Eigen::MatrixXd> &u, HarmonicWorkspace &work);
 
   class HarmonicSharing
   {

@@ -78,6 +78,8 @@ namespace hertzgear::fem
     std::vector<double>    a;
     int                    rank = 0, processes = 1;
     std::array<long, 2>    estimate_MB = {0, 0}; // the analysis' INFOG(16), INFOG(17)
+    std::vector<double>    schur_values;            // on rank 0: by rows, the lower triangle
+    std::vector<double>    rhs_block;               // on rank 0: the right-hand sides, then solutions
 
     void call(const int job, const char *what)
     {
@@ -167,8 +169,8 @@ namespace hertzgear::fem
           m.schur_list.push_back(static_cast<MUMPS_INT>(r + 1));
         id.size_schur    = static_cast<MUMPS_INT>(m.schur_list.size());
         id.listvar_schur = m.schur_list.data();
-        schur_values.assign(m.schur_list.size() * m.schur_list.size(), 0.0);
-        id.schur = schur_values.data();
+        m.schur_values.assign(m.schur_list.size() * m.schur_list.size(), 0.0);
+        id.schur = m.schur_values.data();
       }
     // The Schur complement centralized on the host (ICNTL(19) = 1).
     id.icntl[18] = 1;
@@ -189,16 +191,22 @@ namespace hertzgear::fem
   long SectorFactorisation::estimated_memory_MB_per_process() const { return mumps->estimate_MB[0]; }
   long SectorFactorisation::estimated_memory_MB_in_all() const { return mumps->estimate_MB[1]; }
 
-  std::vector<double> SectorFactorisation::schur(PetscInt &n_s) const
+  Eigen::MatrixXd SectorFactorisation::take_schur() const
   {
-    n_s = static_cast<PetscInt>(mumps->schur_list.size());
-    const std::size_t   ns = static_cast<std::size_t>(n_s);
-    std::vector<double> dense(ns * ns);
-    // MUMPS returns the lower triangle by rows (ICNTL(19) = 1, a symmetric matrix).
-    for (std::size_t i = 0; i < ns; ++i)
-      for (std::size_t j = 0; j <= i; ++j)
-        dense[j * ns + i] = dense[i * ns + j] = schur_values[i * ns + j];
-    return dense;
+    auto              &m  = *mumps;
+    const Eigen::Index ns = static_cast<Eigen::Index>(m.schur_list.size());
+    HG_REQUIRE_INPUT(m.schur_values.size() == static_cast<std::size_t>(ns * ns),
+                     "SectorFactorisation::take_schur: called twice, or on a rank other than 0");
+    // MUMPS returns the lower triangle by rows (ICNTL(19) = 1, a symmetric matrix): row i of it
+    // is column i of the upper triangle.
+    Eigen::MatrixXd S(ns, ns);
+    const Eigen::Map<const Eigen::MatrixXd> by_rows(m.schur_values.data(), ns, ns); // its transpose
+    for (Eigen::Index j = 0; j < ns; ++j)
+      for (Eigen::Index i = j; i < ns; ++i)
+        S(i, j) = S(j, i) = by_rows(j, i);
+    std::vector<double>().swap(m.schur_values);
+    m.id.schur = nullptr;
+    return S;
   }
 
   void SectorFactorisation::solve(const PetscInt n_columns, const std::vector<Vec> &rhs,
@@ -208,14 +216,15 @@ namespace hertzgear::fem
     auto &id = m.id;
     if (n_columns == 0)
       return;
-    const std::size_t   n = static_cast<std::size_t>(id.n);
-    std::vector<double> block;
+    const std::size_t n     = static_cast<std::size_t>(id.n);
+    auto             &block = m.rhs_block; // kept between calls: the next block reuses its pages
     if (m.rank == 0)
       {
         HG_REQUIRE_INPUT(rhs.size() == static_cast<std::size_t>(n_columns) && solution.size() == rhs.size(),
                          "SectorFactorisation::solve: ", rhs.size(), " right-hand sides and ", solution.size(),
                          " solutions for ", n_columns, " columns");
-        block.resize(n * rhs.size());
+        if (block.size() < n * rhs.size())
+          block.resize(n * rhs.size());
         for (std::size_t j = 0; j < rhs.size(); ++j)
           {
             const PetscScalar *b = nullptr;
@@ -262,13 +271,13 @@ namespace hertzgear::fem
     // Adds harmonic k unless an earlier one failed (then the failure is kept for the reduction).
     void add_harmonic(const int k, const int N, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
                       const std::map<int, Eigen::MatrixXd> &q, const int s_min, const int s_max,
-                      std::map<int, Eigen::MatrixXd> &u, std::string &failure)
+                      std::map<int, Eigen::MatrixXd> &u, std::string &failure, HarmonicWorkspace &work)
     {
       if (!failure.empty())
         return;
       try
         {
-          add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u);
+          add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u, work);
         }
       catch (const std::exception &e)
         {
@@ -346,8 +355,9 @@ namespace hertzgear::fem
         Eigen::MatrixXd copy = qs;
         broadcast_matrix(copy, group);
       }
-    auto        u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
-    std::string failure;
+    auto              u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
+    std::string       failure;
+    HarmonicWorkspace work;
     while (!todo.empty())
       {
         if (between_rounds)
@@ -360,7 +370,7 @@ namespace hertzgear::fem
             todo.pop_front();
           }
         command(round_command, round);
-        add_harmonic(static_cast<int>(round[0]), n_teeth, D, E, q, s_min, s_max, u, failure);
+        add_harmonic(static_cast<int>(round[0]), n_teeth, D, E, q, s_min, s_max, u, failure, work);
       }
     command(round_command, {}); // the end of the call
     reduce_harmonics(group, u, failure);
@@ -412,14 +422,15 @@ namespace hertzgear::fem
                 std::map<int, Eigen::MatrixXd> q;
                 for (std::size_t i = 4; i < message.size(); ++i)
                   broadcast_matrix(q[static_cast<int>(message[i])], group);
-                auto        u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
-                std::string failure;
-                const int   me = rank_of(group);
+                auto              u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
+                std::string       failure;
+                HarmonicWorkspace work;
+                const int         me = rank_of(group);
                 // Rounds until an empty one.
                 for (auto round = next_command(group); round.size() > 1; round = next_command(group))
                   if (static_cast<std::size_t>(me) < round.size() - 1)
                     add_harmonic(static_cast<int>(round[static_cast<std::size_t>(me) + 1]), N, D, E, q, s_min, s_max,
-                                 u, failure);
+                                 u, failure, work);
                 reduce_harmonics(group, u, failure);
               }
               break;

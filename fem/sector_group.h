@@ -77,10 +77,12 @@ namespace hertzgear::fem
     SectorFactorisation(const SectorFactorisation &)            = delete;
     SectorFactorisation &operator=(const SectorFactorisation &) = delete;
 
-    // On rank 0: the dense Schur complement (column-major, n_s x n_s).
-    std::vector<double> schur(PetscInt &n_s) const;
+    // On rank 0, once: the dense Schur complement, its lower triangle as MUMPS returns it
+    // mirrored (symmetric to the last bit); MUMPS's copy is freed.
+    Eigen::MatrixXd take_schur() const;
     // Interior solves (cut rows held at zero), collective: rank 0 gives the right-hand sides and
-    // receives the solutions, the others pass none (fem/petsc_ksp.h, mumps_block_solve).
+    // receives the solutions (MUMPS's dense centralised right-hand sides, solved in place, in one
+    // buffer kept for the next call), the others pass none.
     void solve(PetscInt n_columns, const std::vector<Vec> &rhs, const std::vector<Vec> &solution) const;
 
     // MUMPS's estimate of the largest memory per process of the factorisation, and its sum
@@ -91,7 +93,6 @@ namespace hertzgear::fem
   private:
     struct Mumps;
     std::unique_ptr<Mumps> mumps;
-    std::vector<double>    schur_values; // on rank 0: by rows, the lower triangle
   };
 
   // The owner's side of a group.
