@@ -691,9 +691,12 @@ namespace hertzgear::stiffness
         report_body(b, s, seconds_since(t0));
       }
 
-      // A body built by a group, as a work unit of each of its ranks: "gear (ranks 1, 2)".
+      // A body built by a group, as a work unit of each of its ranks: "gear (ranks 1, 2)"; a
+      // group of one is the body's name alone.
       std::string group_unit(const unsigned int b, const std::vector<int> &ranks) const
       {
+        if (ranks.size() == 1)
+          return body_name(b);
         std::ostringstream os;
         os << body_name(b) << " (ranks ";
         for (std::size_t i = 0; i < ranks.size(); ++i)

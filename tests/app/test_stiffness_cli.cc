@@ -682,6 +682,7 @@ TEST(StiffnessCliMpi, ThreeRanksBuildTheGearAsAGroupAndGiveTheSerialTable)
             std::string::npos)
     << err;
   EXPECT_NE(err.find("rank 2: gear (ranks 1, 2), 1 contact position;"), std::string::npos) << err;
+  EXPECT_NE(err.find("rank 0: pinion, "), std::string::npos) << "a group of one is the body's name alone: " << err;
   const auto json = nlohmann::json::parse(slurp(mpi / "stiffness.json"));
   EXPECT_EQ(json["fe"]["bodies"]["gear"]["ranks"], nlohmann::json::array({1, 2}));
   // The member's memory: no mesh and no matrix, its share of the factors and D, E.
