@@ -60,6 +60,7 @@ namespace hertzgear::fem
       return s;
     }
 
+    // From rank 0 of `comm` (which only reads `a`) to the others (which receive it into `a`).
     void broadcast_matrix(Eigen::MatrixXd &a, MPI_Comm comm)
     {
       long dims[2] = {static_cast<long>(a.rows()), static_cast<long>(a.cols())};
@@ -328,9 +329,8 @@ namespace hertzgear::fem
     if (!shared())
       return;
     command(blocks_command, {});
-    Eigen::MatrixXd d = D, e = E;
-    broadcast_matrix(d, group);
-    broadcast_matrix(e, group);
+    broadcast_matrix(const_cast<Eigen::MatrixXd &>(D), group); // rank 0 sends: read only
+    broadcast_matrix(const_cast<Eigen::MatrixXd &>(E), group);
   }
 
   void SectorGroup::solve(const PetscInt n_columns, const std::vector<Vec> &rhs,
@@ -351,10 +351,7 @@ namespace hertzgear::fem
       header.push_back(s);
     command(harmonics_command, header);
     for (const auto &[s, qs] : q)
-      {
-        Eigen::MatrixXd copy = qs;
-        broadcast_matrix(copy, group);
-      }
+      broadcast_matrix(const_cast<Eigen::MatrixXd &>(qs), group); // rank 0 sends: read only
     auto              u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
     std::string       failure;
     HarmonicWorkspace work;

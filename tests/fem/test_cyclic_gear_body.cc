@@ -25,6 +25,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 
@@ -313,6 +314,36 @@ TEST(CyclicGearBodyMpi, HarmonicsSharedByTwoRanksGiveTheTableOfOne)
   EXPECT_LT(difference, 1e-12) << "rank " << rank;
 }
 
+namespace
+{
+  // On rank 0: the pinion's flank table of the small pair's full gear (level 2), built with the
+  // parameters that `configure` sets, twice (variant 0 and 1); the largest difference of the
+  // second from the first, relative to the first's largest entry.
+  double pinion_table_difference(const std::string &name,
+                                 const std::function<void(int, fem::CyclicGearBody<2>::Parameters &)> &configure)
+  {
+    const meshing::PairKinematics kin(small_pair(20.0));
+    const auto                    s   = table_settings(kin.pinion(), 2);
+    const auto                    msh = sector_mesh(kin, 2, name);
+    dealii::Triangulation<2>      sector;
+    fem::read_gmsh_mesh(msh.string(), sector);
+    std::filesystem::remove(msh);
+    Eigen::MatrixXd tables[2];
+    for (const int variant : {0, 1})
+      {
+        typename fem::CyclicGearBody<2>::Parameters cp;
+        cp.body    = body_parameters<2>();
+        cp.n_teeth = static_cast<unsigned int>(kin.pinion().n_teeth());
+        configure(variant, cp);
+        fem::CyclicGearBody<2> cyclic(sector, cp);
+        cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
+        cyclic.run();
+        tables[variant] = fem::TabulatedFlankCompliance<2>(cyclic, kin.pinion(), 0, s).matrix();
+      }
+    return (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
+  }
+} // namespace
+
 TEST(CyclicGearBodyMpi, HarmonicsSolvedByAHelperWithoutTheSectorGiveTheTableOfOne)
 {
   // Requirement (fem/harmonic_sharing.h): a rank that holds no sector takes cyclic harmonics the
@@ -324,31 +355,16 @@ TEST(CyclicGearBodyMpi, HarmonicsSolvedByAHelperWithoutTheSectorGiveTheTableOfOn
   const int size = static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
   if (size != 2)
     GTEST_SKIP() << "needs two ranks";
-  const meshing::PairKinematics kin(small_pair(20.0));
   const int rank = static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD));
-  const auto s   = table_settings(kin.pinion(), 2);
-  Eigen::MatrixXd tables[2];
   fem::HarmonicSharing sharing(MPI_COMM_WORLD, {0}, {{1}});
   if (rank == 0)
     {
-      const auto msh = sector_mesh(kin, 2, "helped_r0");
-      dealii::Triangulation<2> sector;
-      fem::read_gmsh_mesh(msh.string(), sector);
-      std::filesystem::remove(msh);
-      for (const int helped : {0, 1})
-        {
-          typename fem::CyclicGearBody<2>::Parameters cp;
-          cp.body    = body_parameters<2>();
-          cp.n_teeth = static_cast<unsigned int>(kin.pinion().n_teeth());
-          if (helped)
-            cp.harmonic_sharing = [&sharing] { return &sharing; };
-          fem::CyclicGearBody<2> cyclic(sector, cp);
-          cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
-          cyclic.run();
-          tables[helped] = fem::TabulatedFlankCompliance<2>(cyclic, kin.pinion(), 0, s).matrix();
-        }
-      const double difference = (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
-      EXPECT_LT(difference, 1e-12);
+      EXPECT_LT(pinion_table_difference("helped_r0",
+                                      [&sharing](const int helped, fem::CyclicGearBody<2>::Parameters &cp) {
+                                        if (helped)
+                                          cp.harmonic_sharing = [&sharing] { return &sharing; };
+                                      }),
+                1e-12);
     }
   sharing.finish();
   if (rank == 1)
@@ -369,30 +385,17 @@ TEST(CyclicGearBodyMpi, ASectorFactorisedByAGroupGivesTheTableOfOne)
   const int size = static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
   if (size != 2)
     GTEST_SKIP() << "needs two ranks";
-  const meshing::PairKinematics kin(small_pair(20.0));
   const int rank = static_cast<int>(dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD));
-  const auto s   = table_settings(kin.pinion(), 2);
   if (rank == 0)
     {
-      const auto msh = sector_mesh(kin, 2, "group_r0");
-      dealii::Triangulation<2> sector;
-      fem::read_gmsh_mesh(msh.string(), sector);
-      std::filesystem::remove(msh);
-      Eigen::MatrixXd tables[2];
-      for (const int grouped : {0, 1})
-        {
-          fem::SectorGroup                           group(grouped ? MPI_COMM_WORLD : MPI_COMM_SELF);
-          typename fem::CyclicGearBody<2>::Parameters cp;
-          cp.body         = body_parameters<2>();
-          cp.n_teeth      = static_cast<unsigned int>(kin.pinion().n_teeth());
-          cp.sector_group = &group;
-          fem::CyclicGearBody<2> cyclic(sector, cp);
-          cyclic.set_load_boundary_ids({meshing::physical_tag::drive_flank});
-          cyclic.run();
-          tables[grouped] = fem::TabulatedFlankCompliance<2>(cyclic, kin.pinion(), 0, s).matrix();
-        }
-      const double difference = (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
-      EXPECT_LT(difference, 1e-12);
+      std::unique_ptr<fem::SectorGroup> group;
+      EXPECT_LT(pinion_table_difference("group_r0",
+                                        [&group](const int grouped, fem::CyclicGearBody<2>::Parameters &cp) {
+                                          group = std::make_unique<fem::SectorGroup>(grouped ? MPI_COMM_WORLD :
+                                                                                               MPI_COMM_SELF);
+                                          cp.sector_group = group.get();
+                                        }),
+                1e-12);
     }
   else
     EXPECT_GT(fem::serve_sector_group(MPI_COMM_WORLD), 0.0) << "rank 1 worked for the group";
