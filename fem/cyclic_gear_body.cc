@@ -24,8 +24,35 @@ namespace hertzgear::fem
 
   namespace
   {
-    // Bytes of one block of sector right-hand sides (and as much for the solutions).
+    // Bytes of one block of sector right-hand sides, solved in place (one MUMPS substitution).
     constexpr double block_solve_bytes = 256.0 * 1024 * 1024;
+
+    // The rotation (c, s) in the x-y plane applied in place to every node of x (node-blocked, dim
+    // entries a node): to its rows, x <- R x, or to its columns, x <- (R x^T)^T = x R^T.
+    // Column by column: the matrices are stored by columns.
+    template <int dim>
+    void turn_rows(Eigen::MatrixXd &x, const double c, const double s)
+    {
+      for (Eigen::Index j = 0; j < x.cols(); ++j)
+        for (Eigen::Index i = 0; i < x.rows(); i += dim)
+          {
+            const double a = x(i, j), b = x(i + 1, j);
+            x(i, j)     = c * a - s * b;
+            x(i + 1, j) = s * a + c * b;
+          }
+    }
+
+    template <int dim>
+    void turn_columns(Eigen::MatrixXd &x, const double c, const double s)
+    {
+      for (Eigen::Index j = 0; j < x.cols(); j += dim)
+        for (Eigen::Index i = 0; i < x.rows(); ++i)
+          {
+            const double a = x(i, j), b = x(i, j + 1);
+            x(i, j)     = c * a - s * b;
+            x(i, j + 1) = s * a + c * b;
+          }
+    }
 
     template <int dim>
     Tensor<1, dim> turned(const Tensor<1, dim> &v, const double angle)
@@ -199,13 +226,8 @@ namespace hertzgear::fem
   template <int dim>
   Eigen::MatrixXd CyclicGearBody<dim>::turn(const Eigen::MatrixXd &x, const bool transpose) const
   {
-    const double    c = std::cos(theta), s = transpose ? -std::sin(theta) : std::sin(theta);
     Eigen::MatrixXd y = x;
-    for (Eigen::Index i = 0; i < x.rows(); i += dim)
-      {
-        y.row(i)     = c * x.row(i) - s * x.row(i + 1);
-        y.row(i + 1) = s * x.row(i) + c * x.row(i + 1);
-      }
+    turn_rows<dim>(y, std::cos(theta), transpose ? -std::sin(theta) : std::sin(theta));
     return y;
   }
 
@@ -231,7 +253,7 @@ namespace hertzgear::fem
                                                             schur_rows, parameters.body.factorisation_memory_limit_MB);
         factors = own_factors.get();
       }
-    S = factors->take_schur(); // symmetric to the last bit: one triangle mirrored
+    const Eigen::MatrixXd S = factors->take_schur(); // symmetric to the last bit: one triangle mirrored
     HG_REQUIRE_NUMERIC(static_cast<std::size_t>(S.rows()) == 2 * n_a, "the Schur complement has ", S.rows(),
                        " rows, not ", 2 * n_a);
     {
@@ -252,9 +274,15 @@ namespace hertzgear::fem
       K_cut.setFromTriplets(entries.begin(), entries.end());
     }
     const Eigen::Index m    = static_cast<Eigen::Index>(n_a);
-    const Eigen::MatrixXd S_BB_T = turn(S.bottomRightCorner(m, m), true).transpose(); // S_BB T
-    D = S.topLeftCorner(m, m) + turn(S_BB_T, true);
-    E = turn(S.bottomLeftCorner(m, m), true).transpose(); // S_AB T = (T^T S_BA)^T
+    // D = S_AA + T^T S_BB T and E = S_AB T, turned in place (two matrices of m^2 are made, not six).
+    const double c = std::cos(theta), s = -std::sin(theta); // T^T
+    Eigen::MatrixXd W = S.bottomRightCorner(m, m);
+    turn_rows<dim>(W, c, s);    // T^T S_BB
+    turn_columns<dim>(W, c, s); // T^T S_BB T, transposed (S_BB is symmetric)
+    D = S.topLeftCorner(m, m);
+    D += W.transpose();
+    E = S.topRightCorner(m, m); // S_AB = S_BA^T
+    turn_columns<dim>(E, c, s);
     if (in_group())
       parameters.sector_group->send_interface_blocks(D, E);
   }
@@ -379,80 +407,94 @@ namespace hertzgear::fem
   }
 
   template <int dim>
-  Eigen::VectorXd CyclicGearBody<dim>::cut_reaction(const VectorType &x) const
+  Eigen::VectorXd CyclicGearBody<dim>::cut_reaction(const double *x) const
   {
     // (K x) on the cut rows alone: the rows of K at [A; B], extracted once.
-    const PetscScalar *values = nullptr;
-    check_petsc(VecGetArrayRead(x, &values), "VecGetArrayRead");
     Eigen::VectorXd y = Eigen::VectorXd::Zero(K_cut.rows());
     for (Eigen::Index r = 0; r < K_cut.outerSize(); ++r)
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(K_cut, r); it; ++it)
-        y[r] += it.value() * values[it.col()];
+        y[r] += it.value() * x[it.col()];
+    return y;
+  }
+
+  template <int dim>
+  Eigen::VectorXd CyclicGearBody<dim>::cut_reaction(const VectorType &x) const
+  {
+    const PetscScalar *values = nullptr;
+    check_petsc(VecGetArrayRead(x, &values), "VecGetArrayRead");
+    Eigen::VectorXd y = cut_reaction(values);
     check_petsc(VecRestoreArrayRead(x, &values), "VecRestoreArrayRead");
     return y;
   }
 
   template <int dim>
-  void CyclicGearBody<dim>::zero_cut_entries(VectorType &v) const
+  void CyclicGearBody<dim>::zero_cut_entries(double *values) const
   {
-    PetscScalar *values = nullptr;
-    check_petsc(VecGetArray(v, &values), "VecGetArray");
     for (std::size_t i = 0; i < cut_a.size(); ++i)
       values[cut_a[i]] = values[cut_b[i]] = 0.0;
-    check_petsc(VecRestoreArray(v, &values), "VecRestoreArray");
+  }
+
+  template <int dim>
+  void CyclicGearBody<dim>::solve_interior_columns(const std::size_t n_rhs,
+                                                   const std::function<void(std::size_t, double *)> &fill,
+                                                   const std::function<void(std::size_t, const double *)> &use) const
+  {
+    // One block of right-hand sides (their solutions in place) is held at a time.
+    const std::size_t n     = body.n_dofs();
+    const std::size_t block = static_cast<std::size_t>(
+      std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, static_cast<double>(n))))));
+    for (std::size_t start = 0; start < n_rhs; start += block)
+      {
+        if (parameters.between_work_units)
+          parameters.between_work_units();
+        const std::size_t end       = std::min(n_rhs, start + block);
+        const auto        n_columns = static_cast<PetscInt>(end - start);
+        double           *columns   = factors->right_hand_sides(n_columns);
+        for (std::size_t j = start; j < end; ++j)
+          {
+            double *b = columns + (j - start) * n;
+            fill(j, b);
+            zero_cut_entries(b);
+          }
+        {
+          PhaseTimer::Scope t(timer, "solves");
+          if (in_group())
+            parameters.sector_group->solve(n_columns);
+          else
+            factors->solve(n_columns);
+        }
+        for (std::size_t j = start; j < end; ++j)
+          {
+            double *x = columns + (j - start) * n;
+            zero_cut_entries(x);
+            use(j, x);
+          }
+      }
   }
 
   template <int dim>
   void CyclicGearBody<dim>::solve_interior(std::vector<VectorType> &rhs,
                                            const std::function<void(std::size_t, const VectorType &)> &use) const
   {
-    solve_interior(rhs.size(), [&](const std::size_t j) { return std::move(rhs[j]); }, use);
+    const std::size_t n = body.n_dofs();
+    solve_interior_columns(
+      rhs.size(),
+      [&](const std::size_t j, double *b) {
+        const PetscScalar *values = nullptr;
+        check_petsc(VecGetArrayRead(rhs[j], &values), "VecGetArrayRead");
+        std::copy(values, values + n, b);
+        check_petsc(VecRestoreArrayRead(rhs[j], &values), "VecRestoreArrayRead");
+        rhs[j] = VectorType(); // consumed
+      },
+      [&](const std::size_t j, const double *x) {
+        VectorType   u(body.get_locally_owned_dofs(), MPI_COMM_SELF);
+        PetscScalar *values = nullptr;
+        check_petsc(VecGetArray(u, &values), "VecGetArray");
+        std::copy(x, x + n, values);
+        check_petsc(VecRestoreArray(u, &values), "VecRestoreArray");
+        use(j, body.ghosted_solution(u));
+      });
     rhs.clear();
-  }
-
-  template <int dim>
-  void CyclicGearBody<dim>::solve_interior(const std::size_t n_rhs,
-                                           const std::function<VectorType(std::size_t)> &make_rhs,
-                                           const std::function<void(std::size_t, const VectorType &)> &use) const
-  {
-    // Right-hand sides are made per block: only one block of them and of their solutions is
-    // held at a time.
-    const std::size_t block = static_cast<std::size_t>(
-      std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, body.n_dofs())))));
-    for (std::size_t start = 0; start < n_rhs; start += block)
-      {
-        if (parameters.between_work_units)
-          parameters.between_work_units();
-        const std::size_t       end = std::min(n_rhs, start + block);
-        std::vector<VectorType> rhs, solutions(end - start);
-        for (std::size_t j = start; j < end; ++j)
-          {
-            rhs.push_back(make_rhs(j));
-            zero_cut_entries(rhs.back());
-            solutions[j - start].reinit(body.get_locally_owned_dofs(), MPI_COMM_SELF);
-          }
-        {
-          PhaseTimer::Scope t(timer, "solves");
-          std::vector<Vec> b, x;
-          for (std::size_t j = start; j < end; ++j)
-            {
-              b.push_back(rhs[j - start]);
-              x.push_back(solutions[j - start]);
-            }
-          const auto n_columns = static_cast<PetscInt>(end - start);
-          if (in_group())
-            parameters.sector_group->solve(n_columns, b, x);
-          else
-            factors->solve(n_columns, b, x);
-        }
-        rhs.clear();
-        for (std::size_t j = start; j < end; ++j)
-          {
-            auto &u = solutions[j - start];
-            zero_cut_entries(u);
-            use(j, body.ghosted_solution(u));
-          }
-      }
   }
 
   template <int dim>
@@ -516,25 +558,27 @@ namespace hertzgear::fem
             }
         }
     }
-    const auto make_rhs = [&](const std::size_t j) {
+    const auto fill = [&](const std::size_t j, double *b) {
       PhaseTimer::Scope t(timer, "load vectors");
       if (j < n_l)
         {
-          VectorType f = body.patch_load_vector(unique_loads[j]);
-          G.col(j)     = cut_values(f);
-          return f;
+          const VectorType   f      = body.patch_load_vector(unique_loads[j]);
+          const PetscScalar *values = nullptr;
+          G.col(j)                  = cut_values(f);
+          check_petsc(VecGetArrayRead(f, &values), "VecGetArrayRead");
+          std::copy(values, values + body.n_dofs(), b);
+          check_petsc(VecRestoreArrayRead(f, &values), "VecRestoreArrayRead");
         }
-      VectorType v(body.get_locally_owned_dofs(), MPI_COMM_SELF);
-      for (const auto &[dof, w] : functionals[j - n_l])
-        v[dof] += w;
-      v.compress(VectorOperation::add);
-      return v;
+      else
+        for (const auto &[dof, w] : functionals[j - n_l])
+          b[dof] += w;
     };
     // Interior solves (cut faces held at zero): x = K_II^-1 f for the loads, w = K_II^-1 r_I
     // for the readings. A reading of a sector with cut displacement u_c and own load f is then
-    // r_I . x - (K_cI w) . u_c + r_c . u_c.
+    // r_I . x - (K_cI w) . u_c + r_c . u_c. Only these functionals of the solutions are read:
+    // they are taken from the solved block, no vector is made for them.
     Eigen::MatrixXd interior_readings(n_r, n_l);
-    solve_interior(n_l + n_r, make_rhs, [&](const std::size_t j, const VectorType &x) {
+    solve_interior_columns(n_l + n_r, fill, [&](const std::size_t j, const double *x) {
       if (j < n_l)
         {
           G.col(j) -= cut_reaction(x);

@@ -146,14 +146,19 @@ namespace hertzgear::fem
     void pair_cut_faces();
     void factorise();
     // Interior solves K_II^-1 b_I (cut faces held at zero; the cut entries of b are ignored and
-    // those of the solution are 0) for every right-hand side, in blocks; `use` gets each.
+    // those of the solution are 0) for every right-hand side, in blocks. On raw columns of the
+    // factorisation's block (K's size): `fill(j, b)` writes right-hand side j into its zeroed
+    // column, `use(j, x)` reads its solution (constrained entries as MUMPS returns them: 0, the
+    // clamped DoFs' rows of K holding their diagonal alone and their right-hand sides 0).
+    void solve_interior_columns(std::size_t n_rhs, const std::function<void(std::size_t, double *)> &fill,
+                                const std::function<void(std::size_t, const double *)> &use) const;
+    // The same on vectors; `use` gets each solution with its constraints applied, ghosted.
     void solve_interior(std::vector<VectorType> &rhs,
                         const std::function<void(std::size_t, const VectorType &)> &use) const;
-    void solve_interior(std::size_t n_rhs, const std::function<VectorType(std::size_t)> &make_rhs,
-                        const std::function<void(std::size_t, const VectorType &)> &use) const;
     Eigen::VectorXd cut_values(const VectorType &u) const;   // [A; B]
-    Eigen::VectorXd cut_reaction(const VectorType &x) const; // (K x) on [A; B]
-    void            zero_cut_entries(VectorType &v) const;
+    Eigen::VectorXd cut_reaction(const double *x) const;     // (K x) on [A; B]
+    Eigen::VectorXd cut_reaction(const VectorType &x) const;
+    void            zero_cut_entries(double *values) const;
     // T x and T^T x on A-numbered node vectors.
     Eigen::MatrixXd turn(const Eigen::MatrixXd &x, bool transpose) const;
 
@@ -161,7 +166,6 @@ namespace hertzgear::fem
     ElasticBody<dim> body;
     double           theta = 0;
     std::vector<dealii::types::global_dof_index> cut_a, cut_b; // node-blocked, paired
-    Eigen::MatrixXd S;                                         // [A; B] x [A; B]
     Eigen::MatrixXd D, E;
     Eigen::SparseMatrix<double, Eigen::RowMajor> K_cut; // the rows of K at [A; B]
     std::unique_ptr<SectorFactorisation> own_factors; // alone

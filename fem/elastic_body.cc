@@ -139,14 +139,19 @@ namespace hertzgear
     {
       HG_REQUIRE_INPUT(Utilities::MPI::n_mpi_processes(mpi_communicator) == 1,
                        "reading_functional needs a body on one process");
-      const auto found = GridTools::find_active_cell_around_point(mapping, dof_handler, reading.point);
+      // A table has hundreds of readings: the vertex-to-cell maps of the search are built once.
+      if (!point_search)
+        point_search = std::make_unique<GridTools::Cache<dim>>(triangulation, mapping);
+      const auto found = GridTools::find_active_cell_around_point(*point_search, reading.point);
       HG_REQUIRE_INPUT(found.first.state() == IteratorState::valid, "the reading point (",
                        reading.point, ") lies outside the body");
+      const typename DoFHandler<dim>::active_cell_iterator cell(&triangulation, found.first->level(),
+                                                                found.first->index(), &dof_handler);
       const Quadrature<dim> at_point(GeometryInfo<dim>::project_to_unit_cell(found.second));
       FEValues<dim>         fe_values(mapping, fe, at_point, update_values);
-      fe_values.reinit(found.first);
+      fe_values.reinit(cell);
       std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-      found.first->get_dof_indices(dofs);
+      cell->get_dof_indices(dofs);
       std::vector<std::pair<types::global_dof_index, double>> weights;
       for (unsigned int i = 0; i < dofs.size(); ++i)
         {

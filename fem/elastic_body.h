@@ -28,6 +28,7 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_q.h>
+#include <deal.II/grid/grid_tools_cache.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
@@ -216,6 +217,8 @@ namespace hertzgear
       MatrixType                        system_matrix;
 
       std::set<dealii::types::boundary_id> load_boundary_ids;
+      // The point search of reading_functional (vertex-to-cell maps, built on the first reading).
+      mutable std::unique_ptr<dealii::GridTools::Cache<dim>> point_search;
 
       // The PETSc KSP that holds the MUMPS factors or the AMG hierarchy (opaque here to keep petsc
       // headers out).

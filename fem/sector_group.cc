@@ -79,7 +79,7 @@ namespace hertzgear::fem
     std::vector<double>    a;
     int                    rank = 0, processes = 1;
     std::array<long, 2>    estimate_MB = {0, 0}; // the analysis' INFOG(16), INFOG(17)
-    std::vector<double>    schur_values;            // on rank 0: by rows, the lower triangle
+    Eigen::MatrixXd        schur;                   // on rank 0: MUMPS's lower triangle by rows
     std::vector<double>    rhs_block;               // on rank 0: the right-hand sides, then solutions
 
     void call(const int job, const char *what)
@@ -170,8 +170,10 @@ namespace hertzgear::fem
           m.schur_list.push_back(static_cast<MUMPS_INT>(r + 1));
         id.size_schur    = static_cast<MUMPS_INT>(m.schur_list.size());
         id.listvar_schur = m.schur_list.data();
-        m.schur_values.assign(m.schur_list.size() * m.schur_list.size(), 0.0);
-        id.schur = m.schur_values.data();
+        // Not initialised: MUMPS writes the triangle, take_schur the other half.
+        const auto ns = static_cast<Eigen::Index>(m.schur_list.size());
+        m.schur.resize(ns, ns);
+        id.schur = m.schur.data();
       }
     // The Schur complement centralized on the host (ICNTL(19) = 1).
     id.icntl[18] = 1;
@@ -196,59 +198,58 @@ namespace hertzgear::fem
   {
     auto              &m  = *mumps;
     const Eigen::Index ns = static_cast<Eigen::Index>(m.schur_list.size());
-    HG_REQUIRE_INPUT(m.schur_values.size() == static_cast<std::size_t>(ns * ns),
+    HG_REQUIRE_INPUT(m.rank == 0 && m.id.schur != nullptr && m.schur.rows() == ns,
                      "SectorFactorisation::take_schur: called twice, or on a rank other than 0");
-    // MUMPS returns the lower triangle by rows (ICNTL(19) = 1, a symmetric matrix): row i of it
-    // is column i of the upper triangle.
-    Eigen::MatrixXd S(ns, ns);
-    const Eigen::Map<const Eigen::MatrixXd> by_rows(m.schur_values.data(), ns, ns); // its transpose
-    for (Eigen::Index j = 0; j < ns; ++j)
-      for (Eigen::Index i = j; i < ns; ++i)
-        S(i, j) = S(j, i) = by_rows(j, i);
-    std::vector<double>().swap(m.schur_values);
+    // MUMPS returns the lower triangle by rows (ICNTL(19) = 1, a symmetric matrix): read by
+    // columns, that is the upper triangle. It is mirrored in place, tile by tile (a tile and its
+    // transpose stay in cache), and the matrix handed over without a copy.
+    Eigen::MatrixXd    S    = std::move(m.schur);
+    constexpr Eigen::Index tile = 64;
+    for (Eigen::Index j0 = 0; j0 < ns; j0 += tile)
+      {
+        const Eigen::Index nj = std::min(tile, ns - j0);
+        for (Eigen::Index j = j0; j < j0 + nj; ++j) // the diagonal tile
+          for (Eigen::Index i = j + 1; i < j0 + nj; ++i)
+            S(i, j) = S(j, i);
+        for (Eigen::Index i0 = j0 + nj; i0 < ns; i0 += tile) // below it: the transposed tile above
+          {
+            const Eigen::Index ni = std::min(tile, ns - i0);
+            S.block(i0, j0, ni, nj) = S.block(j0, i0, nj, ni).transpose();
+          }
+      }
+    m.schur    = Eigen::MatrixXd();
     m.id.schur = nullptr;
     return S;
   }
 
-  void SectorFactorisation::solve(const PetscInt n_columns, const std::vector<Vec> &rhs,
-                                  const std::vector<Vec> &solution) const
+  double *SectorFactorisation::right_hand_sides(const PetscInt n_columns) const
+  {
+    auto &m = *mumps;
+    HG_REQUIRE_INPUT(m.rank == 0, "SectorFactorisation::right_hand_sides: only rank 0 holds the block");
+    const std::size_t size = static_cast<std::size_t>(m.id.n) * static_cast<std::size_t>(n_columns);
+    if (m.rhs_block.size() < size)
+      m.rhs_block.resize(size);
+    std::fill(m.rhs_block.begin(), m.rhs_block.begin() + static_cast<std::ptrdiff_t>(size), 0.0);
+    return m.rhs_block.data();
+  }
+
+  void SectorFactorisation::solve(const PetscInt n_columns) const
   {
     auto &m  = *mumps;
     auto &id = m.id;
     if (n_columns == 0)
       return;
-    const std::size_t n     = static_cast<std::size_t>(id.n);
-    auto             &block = m.rhs_block; // kept between calls: the next block reuses its pages
     if (m.rank == 0)
       {
-        HG_REQUIRE_INPUT(rhs.size() == static_cast<std::size_t>(n_columns) && solution.size() == rhs.size(),
-                         "SectorFactorisation::solve: ", rhs.size(), " right-hand sides and ", solution.size(),
-                         " solutions for ", n_columns, " columns");
-        if (block.size() < n * rhs.size())
-          block.resize(n * rhs.size());
-        for (std::size_t j = 0; j < rhs.size(); ++j)
-          {
-            const PetscScalar *b = nullptr;
-            check_petsc(VecGetArrayRead(rhs[j], &b), "VecGetArrayRead");
-            std::copy(b, b + n, block.begin() + static_cast<std::ptrdiff_t>(j * n));
-            check_petsc(VecRestoreArrayRead(rhs[j], &b), "VecRestoreArrayRead");
-          }
-        id.rhs  = block.data();
+        HG_REQUIRE_INPUT(m.rhs_block.size() >= static_cast<std::size_t>(id.n) * static_cast<std::size_t>(n_columns),
+                         "SectorFactorisation::solve: ", n_columns, " columns, but no block of them written");
+        id.rhs  = m.rhs_block.data();
         id.lrhs = id.n;
       }
     id.nrhs      = static_cast<MUMPS_INT>(n_columns);
     id.icntl[19] = 0; // dense right-hand sides on the host
     id.icntl[20] = 0; // the solutions back on the host, in place
     m.call(3, "substitution");
-    if (m.rank == 0)
-      for (std::size_t j = 0; j < solution.size(); ++j)
-        {
-          PetscScalar *x = nullptr;
-          check_petsc(VecGetArrayWrite(solution[j], &x), "VecGetArrayWrite");
-          std::copy(block.begin() + static_cast<std::ptrdiff_t>(j * n),
-                    block.begin() + static_cast<std::ptrdiff_t>((j + 1) * n), x);
-          check_petsc(VecRestoreArrayWrite(solution[j], &x), "VecRestoreArrayWrite");
-        }
     id.rhs = nullptr;
   }
 
@@ -333,11 +334,10 @@ namespace hertzgear::fem
     broadcast_matrix(const_cast<Eigen::MatrixXd &>(E), group);
   }
 
-  void SectorGroup::solve(const PetscInt n_columns, const std::vector<Vec> &rhs,
-                          const std::vector<Vec> &solution) const
+  void SectorGroup::solve(const PetscInt n_columns) const
   {
     command(solve_command, {static_cast<long>(n_columns)});
-    factors->solve(n_columns, rhs, solution);
+    factors->solve(n_columns);
   }
 
   std::map<int, Eigen::MatrixXd> SectorGroup::harmonics(const int n_teeth, const Eigen::MatrixXd &D,
@@ -410,7 +410,7 @@ namespace hertzgear::fem
               broadcast_matrix(E, group);
               break;
             case solve_command:
-              factors->solve(static_cast<PetscInt>(message.at(1)), std::vector<Vec>{}, std::vector<Vec>{});
+              factors->solve(static_cast<PetscInt>(message.at(1)));
               break;
             case harmonics_command:
               {

@@ -77,13 +77,16 @@ namespace hertzgear::fem
     SectorFactorisation(const SectorFactorisation &)            = delete;
     SectorFactorisation &operator=(const SectorFactorisation &) = delete;
 
-    // On rank 0, once: the dense Schur complement, its lower triangle as MUMPS returns it
-    // mirrored (symmetric to the last bit); MUMPS's copy is freed.
+    // On rank 0, once: the dense Schur complement, the triangle MUMPS wrote mirrored in place
+    // (symmetric to the last bit) and handed over without a copy.
     Eigen::MatrixXd take_schur() const;
-    // Interior solves (cut rows held at zero), collective: rank 0 gives the right-hand sides and
-    // receives the solutions (MUMPS's dense centralised right-hand sides, solved in place, in one
-    // buffer kept for the next call), the others pass none.
-    void solve(PetscInt n_columns, const std::vector<Vec> &rhs, const std::vector<Vec> &solution) const;
+    // Interior solves (cut rows held at zero) of a block of right-hand sides, in place (MUMPS's
+    // dense centralised right-hand sides). On rank 0, before the solve: the block to write,
+    // column j (K's size n) at j n, zeroed; after the solve its columns hold the solutions. It
+    // stays allocated for the next block, so that its pages are not taken and cleared again.
+    double *right_hand_sides(PetscInt n_columns) const;
+    // Collective; the others pass the same n_columns and hold no block.
+    void solve(PetscInt n_columns) const;
 
     // MUMPS's estimate of the largest memory per process of the factorisation, and its sum
     // over the processes [MB] (INFOG(16), INFOG(17) after the analysis).
@@ -114,8 +117,9 @@ namespace hertzgear::fem
     // Sends the members the interface blocks D and E (after factorise, before harmonics).
     void send_interface_blocks(const Eigen::MatrixXd &D, const Eigen::MatrixXd &E) const;
     const SectorFactorisation &factorisation() const { return *factors; }
-    // Interior solves over the group.
-    void solve(PetscInt n_columns, const std::vector<Vec> &rhs, const std::vector<Vec> &solution) const;
+    // Interior solves over the group of the block written into factorisation().right_hand_sides
+    // (see SectorFactorisation::solve).
+    void solve(PetscInt n_columns) const;
     // The interface displacements u_s, s = s_min .. s_max, summed over the harmonics `todo`
     // (the owner's D and E, sent by send_interface_blocks). The harmonics go out in rounds, one
     // to each process of the group; before each round `between_rounds` may take harmonics from
