@@ -54,6 +54,17 @@ namespace hertzgear::fem
           }
     }
 
+    // f(values) on the array of a one-process PETSc vector.
+    template <class F>
+    auto with_values(const Vec v, F &&f)
+    {
+      const PetscScalar *values = nullptr;
+      check_petsc(VecGetArrayRead(v, &values), "VecGetArrayRead");
+      auto result = f(values);
+      check_petsc(VecRestoreArrayRead(v, &values), "VecRestoreArrayRead");
+      return result;
+    }
+
     template <int dim>
     Tensor<1, dim> turned(const Tensor<1, dim> &v, const double angle)
     {
@@ -396,6 +407,12 @@ namespace hertzgear::fem
   template <int dim>
   Eigen::VectorXd CyclicGearBody<dim>::cut_values(const VectorType &u) const
   {
+    return with_values(u, [&](const double *values) { return cut_values(values); });
+  }
+
+  template <int dim>
+  Eigen::VectorXd CyclicGearBody<dim>::cut_values(const double *u) const
+  {
     const std::size_t n_a = cut_a.size();
     Eigen::VectorXd   v(2 * n_a);
     for (std::size_t i = 0; i < n_a; ++i)
@@ -420,11 +437,7 @@ namespace hertzgear::fem
   template <int dim>
   Eigen::VectorXd CyclicGearBody<dim>::cut_reaction(const VectorType &x) const
   {
-    const PetscScalar *values = nullptr;
-    check_petsc(VecGetArrayRead(x, &values), "VecGetArrayRead");
-    Eigen::VectorXd y = cut_reaction(values);
-    check_petsc(VecRestoreArrayRead(x, &values), "VecRestoreArrayRead");
-    return y;
+    return with_values(x, [&](const double *values) { return cut_reaction(values); });
   }
 
   template <int dim>
@@ -480,10 +493,7 @@ namespace hertzgear::fem
     solve_interior_columns(
       rhs.size(),
       [&](const std::size_t j, double *b) {
-        const PetscScalar *values = nullptr;
-        check_petsc(VecGetArrayRead(rhs[j], &values), "VecGetArrayRead");
-        std::copy(values, values + n, b);
-        check_petsc(VecRestoreArrayRead(rhs[j], &values), "VecRestoreArrayRead");
+        with_values(rhs[j], [&](const double *values) { return std::copy(values, values + n, b); });
         rhs[j] = VectorType(); // consumed
       },
       [&](const std::size_t j, const double *x) {
@@ -562,12 +572,9 @@ namespace hertzgear::fem
       PhaseTimer::Scope t(timer, "load vectors");
       if (j < n_l)
         {
-          const VectorType   f      = body.patch_load_vector(unique_loads[j]);
-          const PetscScalar *values = nullptr;
-          G.col(j)                  = cut_values(f);
-          check_petsc(VecGetArrayRead(f, &values), "VecGetArrayRead");
-          std::copy(values, values + body.n_dofs(), b);
-          check_petsc(VecRestoreArrayRead(f, &values), "VecRestoreArrayRead");
+          const VectorType f = body.patch_load_vector(unique_loads[j]);
+          with_values(f, [&](const double *values) { return std::copy(values, values + body.n_dofs(), b); });
+          G.col(j) = cut_values(b);
         }
       else
         for (const auto &[dof, w] : functionals[j - n_l])

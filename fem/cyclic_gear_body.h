@@ -155,7 +155,8 @@ namespace hertzgear::fem
     // The same on vectors; `use` gets each solution with its constraints applied, ghosted.
     void solve_interior(std::vector<VectorType> &rhs,
                         const std::function<void(std::size_t, const VectorType &)> &use) const;
-    Eigen::VectorXd cut_values(const VectorType &u) const;   // [A; B]
+    Eigen::VectorXd cut_values(const double *u) const;      // [A; B]
+    Eigen::VectorXd cut_values(const VectorType &u) const;
     Eigen::VectorXd cut_reaction(const double *x) const;     // (K x) on [A; B]
     Eigen::VectorXd cut_reaction(const VectorType &x) const;
     void            zero_cut_entries(double *values) const;
