@@ -252,6 +252,9 @@ namespace hertzgear::fem
     for (const auto d : cut_b)
       schur_rows.push_back(static_cast<PetscInt>(d));
     const auto n_dofs = static_cast<PetscInt>(body.n_dofs());
+    on_cut.assign(body.n_dofs(), 0);
+    for (const auto d : schur_rows)
+      on_cut[static_cast<std::size_t>(d)] = 1;
     if (in_group())
       {
         parameters.sector_group->factorise(body.get_system_matrix(), n_dofs, schur_rows,
@@ -486,6 +489,40 @@ namespace hertzgear::fem
   }
 
   template <int dim>
+  Eigen::MatrixXd
+  CyclicGearBody<dim>::solve_interior_functionals(const Eigen::SparseMatrix<double> &F, const std::size_t n_rhs,
+                                                  const std::function<void(std::size_t, SparseColumns &)> &fill) const
+  {
+    // As many columns per block as the dense blocks of solve_interior_columns hold: the factors
+    // are read once per block.
+    const std::size_t n     = body.n_dofs();
+    const std::size_t block = static_cast<std::size_t>(
+      std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, static_cast<double>(n))))));
+    if (in_group())
+      parameters.sector_group->set_functionals(F);
+    else
+      factors->set_functionals(&F);
+    Eigen::MatrixXd FX(F.rows(), static_cast<Eigen::Index>(n_rhs));
+    for (std::size_t start = 0; start < n_rhs; start += block)
+      {
+        if (parameters.between_work_units)
+          parameters.between_work_units();
+        const std::size_t end = std::min(n_rhs, start + block);
+        SparseColumns     columns;
+        for (std::size_t j = start; j < end; ++j)
+          {
+            fill(j, columns);
+            columns.start.push_back(static_cast<long>(columns.rows.size()));
+          }
+        PhaseTimer::Scope t(timer, "solves");
+        FX.middleCols(static_cast<Eigen::Index>(start), static_cast<Eigen::Index>(end - start)) =
+          in_group() ? parameters.sector_group->solve_functionals(columns) :
+                       factors->solve_functionals(static_cast<PetscInt>(end - start), &columns);
+      }
+    return FX;
+  }
+
+  template <int dim>
   void CyclicGearBody<dim>::solve_interior(std::vector<VectorType> &rhs,
                                            const std::function<void(std::size_t, const VectorType &)> &use) const
   {
@@ -549,57 +586,74 @@ namespace hertzgear::fem
     std::map<types::global_dof_index, std::size_t> cut_index; // DoF -> row of [A; B]
     for (std::size_t i = 0; i < cut_a.size(); ++i)
       cut_index[cut_a[i]] = i, cut_index[cut_b[i]] = cut_a.size() + i;
-    // Each reading split into its interior functional and its cut-face part r_c.
-    std::vector<std::vector<std::pair<types::global_dof_index, double>>> functionals;
+    // Each reading split into its interior functional r_I (DoFs ascending, each once: a
+    // right-hand side) and its cut-face part r_c.
+    std::vector<std::vector<std::pair<long, double>>> reading_rhs(n_r);
     Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_r), static_cast<Eigen::Index>(n_c));
     Eigen::MatrixXd G(n_c, n_l); // condensed loads f_c - K_cI K_II^-1 f_I of the loaded sector
     {
       PhaseTimer::Scope t(timer, "load vectors");
       for (std::size_t r = 0; r < n_r; ++r)
         {
-          functionals.emplace_back();
+          std::map<long, double> interior;
           for (const auto &[dof, w] : body.reading_functional(unique_readings[r]))
             {
               const auto c = cut_index.find(dof);
               if (c != cut_index.end())
-                Z(r, c->second) += w;
+                Z(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c->second)) += w;
               else
-                functionals.back().emplace_back(dof, w);
+                interior[static_cast<long>(dof)] += w;
             }
+          reading_rhs[r].assign(interior.begin(), interior.end());
         }
     }
-    const auto fill = [&](const std::size_t j, double *b) {
+    // The functionals of the interior solutions read: the cut reactions K_cI (rows of K at the cut
+    // faces, off them) and the readings' interior functionals r_I.
+    Eigen::SparseMatrix<double> F(static_cast<Eigen::Index>(n_c + n_r), static_cast<Eigen::Index>(body.n_dofs()));
+    {
+      std::vector<Eigen::Triplet<double>> entries;
+      for (Eigen::Index r = 0; r < K_cut.outerSize(); ++r)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(K_cut, r); it; ++it)
+          if (on_cut[static_cast<std::size_t>(it.col())] == 0)
+            entries.emplace_back(static_cast<int>(r), static_cast<int>(it.col()), it.value());
+      for (std::size_t r = 0; r < n_r; ++r)
+        for (const auto &[dof, w] : reading_rhs[r])
+          entries.emplace_back(static_cast<int>(n_c + r), static_cast<int>(dof), w);
+      F.setFromTriplets(entries.begin(), entries.end());
+      F.makeCompressed();
+    }
+    const auto fill = [&](const std::size_t j, SparseColumns &columns) {
       PhaseTimer::Scope t(timer, "load vectors");
       if (j < n_l)
         {
           const VectorType f = body.patch_load_vector(unique_loads[j]);
-          with_values(f, [&](const double *values) { return std::copy(values, values + body.n_dofs(), b); });
-          G.col(j) = cut_values(b);
+          with_values(f, [&](const double *values) {
+            G.col(static_cast<Eigen::Index>(j)) = cut_values(values);
+            for (std::size_t i = 0; i < body.n_dofs(); ++i)
+              if (values[i] != 0.0 && on_cut[i] == 0)
+                {
+                  columns.rows.push_back(static_cast<long>(i));
+                  columns.values.push_back(values[i]);
+                }
+            return 0;
+          });
         }
       else
-        for (const auto &[dof, w] : functionals[j - n_l])
-          b[dof] += w;
+        for (const auto &[dof, w] : reading_rhs[j - n_l])
+          {
+            columns.rows.push_back(dof);
+            columns.values.push_back(w);
+          }
     };
     // Interior solves (cut faces held at zero): x = K_II^-1 f for the loads, w = K_II^-1 r_I
     // for the readings. A reading of a sector with cut displacement u_c and own load f is then
-    // r_I . x - (K_cI w) . u_c + r_c . u_c. Only these functionals of the solutions are read:
-    // they are taken from the solved block, no vector is made for them.
-    Eigen::MatrixXd interior_readings(n_r, n_l);
-    solve_interior_columns(n_l + n_r, fill, [&](const std::size_t j, const double *x) {
-      if (j < n_l)
-        {
-          G.col(j) -= cut_reaction(x);
-          for (std::size_t r = 0; r < n_r; ++r)
-            {
-              double value = 0;
-              for (const auto &[dof, w] : functionals[r])
-                value += w * x[dof];
-              interior_readings(r, j) = value;
-            }
-        }
-      else
-        Z.row(j - n_l) -= cut_reaction(x).transpose();
-    });
+    // r_I . x - (K_cI w) . u_c + r_c . u_c. Only the functionals F of the solutions are read.
+    const Eigen::MatrixXd FX = solve_interior_functionals(F, n_l + n_r, fill);
+    const auto            cl = static_cast<Eigen::Index>(n_c), rl = static_cast<Eigen::Index>(n_r),
+               ll = static_cast<Eigen::Index>(n_l);
+    G -= FX.topLeftCorner(cl, ll);
+    Z -= FX.topRightCorner(cl, rl).transpose();
+    const Eigen::MatrixXd interior_readings = FX.bottomLeftCorner(rl, ll);
 
     const Eigen::Index m = static_cast<Eigen::Index>(cut_a.size());
     int d_min = 0, d_max = 0;

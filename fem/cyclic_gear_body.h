@@ -44,6 +44,7 @@ namespace hertzgear::fem
   class HarmonicSharing;
   class SectorGroup;
   class SectorFactorisation;
+  struct SparseColumns;
 
   template <int dim>
   class CyclicGearBody : public BodyCompliance<dim>
@@ -152,6 +153,12 @@ namespace hertzgear::fem
     // clamped DoFs' rows of K holding their diagonal alone and their right-hand sides 0).
     void solve_interior_columns(std::size_t n_rhs, const std::function<void(std::size_t, double *)> &fill,
                                 const std::function<void(std::size_t, const double *)> &use) const;
+    // Interior solves read only through the functionals F (rows x K's size, no entries on cut
+    // DoFs): F K_II^-1 b_j for every right-hand side j, in blocks; `fill(j, columns)` appends the
+    // entries of b_j off the cut faces (rows ascending, each once) to `columns`. On a group the
+    // solutions stay where MUMPS computes them (SectorFactorisation::solve_functionals).
+    Eigen::MatrixXd solve_interior_functionals(const Eigen::SparseMatrix<double> &F, std::size_t n_rhs,
+                                               const std::function<void(std::size_t, SparseColumns &)> &fill) const;
     // The same on vectors; `use` gets each solution with its constraints applied, ghosted.
     void solve_interior(std::vector<VectorType> &rhs,
                         const std::function<void(std::size_t, const VectorType &)> &use) const;
@@ -167,6 +174,7 @@ namespace hertzgear::fem
     ElasticBody<dim> body;
     double           theta = 0;
     std::vector<dealii::types::global_dof_index> cut_a, cut_b; // node-blocked, paired
+    std::vector<char> on_cut;                                  // per DoF: 1 on the cut faces A and B
     Eigen::MatrixXd D, E;
     Eigen::SparseMatrix<double, Eigen::RowMajor> K_cut; // the rows of K at [A; B]
     std::unique_ptr<SectorFactorisation> own_factors; // alone

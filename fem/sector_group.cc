@@ -20,12 +20,14 @@ namespace hertzgear::fem
     constexpr int command_tag = 5300;
     enum Command : long
     {
-      factorise_command = 1,
-      solve_command     = 2,
-      harmonics_command = 3,
-      blocks_command    = 4,
-      round_command     = 5,
-      dismiss_command   = 6
+      factorise_command        = 1,
+      solve_command            = 2,
+      harmonics_command        = 3,
+      blocks_command           = 4,
+      round_command            = 5,
+      dismiss_command          = 6,
+      functionals_command      = 7,
+      functional_solve_command = 8
     };
 
     int rank_of(MPI_Comm comm)
@@ -77,10 +79,18 @@ namespace hertzgear::fem
     bool                  initialised = false;
     std::vector<MUMPS_INT> irn, jcn, schur_list;
     std::vector<double>    a;
+    MPI_Comm               comm = MPI_COMM_SELF;
     int                    rank = 0, processes = 1;
     std::array<long, 2>    estimate_MB = {0, 0}; // the analysis' INFOG(16), INFOG(17)
     Eigen::MatrixXd        schur;                   // on rank 0: MUMPS's lower triangle by rows
     std::vector<double>    rhs_block;               // on rank 0: the right-hand sides, then solutions
+    // The functionals' solves: F, its columns at this process's solution entries (once these are
+    // known, after the first solve), MUMPS's sparse right-hand sides (rank 0) and the distributed
+    // solutions.
+    Eigen::SparseMatrix<double> F, F_local;
+    bool                        F_local_ready = false;
+    std::vector<MUMPS_INT>      rhs_ptr, rhs_rows, solution_rows;
+    std::vector<double>         rhs_values, solution;
 
     void call(const int job, const char *what)
     {
@@ -110,6 +120,7 @@ namespace hertzgear::fem
     : mumps(std::make_unique<Mumps>())
   {
     auto &m     = *mumps;
+    m.comm      = comm;
     m.rank      = rank_of(comm);
     m.processes = size_of(comm);
     auto &id    = m.id;
@@ -253,6 +264,124 @@ namespace hertzgear::fem
     id.rhs = nullptr;
   }
 
+  void SectorFactorisation::set_functionals(const Eigen::SparseMatrix<double> *F) const
+  {
+    auto    &m    = *mumps;
+    MPI_Comm comm = m.comm;
+    if (m.rank == 0)
+      {
+        HG_REQUIRE_INPUT(F != nullptr && F->cols() == m.id.n && F->isCompressed(),
+                         "SectorFactorisation::set_functionals: rank 0 passes F (compressed, K's size columns)");
+        m.F = *F;
+      }
+    long dims[3] = {static_cast<long>(m.F.rows()), static_cast<long>(m.F.cols()), static_cast<long>(m.F.nonZeros())};
+    if (m.processes > 1)
+      {
+        MPI_Bcast(dims, 3, MPI_LONG, 0, comm);
+        if (m.rank != 0)
+          {
+            m.F.resize(dims[0], dims[1]);
+            m.F.resizeNonZeros(dims[2]);
+          }
+        static_assert(sizeof(Eigen::SparseMatrix<double>::StorageIndex) == sizeof(int), "F's indices are int");
+        MPI_Bcast(m.F.outerIndexPtr(), static_cast<int>(dims[1] + 1), MPI_INT, 0, comm);
+        MPI_Bcast(m.F.innerIndexPtr(), static_cast<int>(dims[2]), MPI_INT, 0, comm);
+        MPI_Bcast(m.F.valuePtr(), static_cast<int>(dims[2]), MPI_DOUBLE, 0, comm);
+      }
+    m.F_local_ready = false;
+  }
+
+  Eigen::MatrixXd SectorFactorisation::solve_functionals(const PetscInt n_columns, const SparseColumns *rhs) const
+  {
+    auto    &m    = *mumps;
+    auto    &id   = m.id;
+    MPI_Comm comm = m.comm;
+    if (n_columns == 0)
+      return Eigen::MatrixXd(m.rank == 0 ? m.F.rows() : 0, 0);
+    if (m.rank == 0)
+      {
+        HG_REQUIRE_INPUT(rhs != nullptr && static_cast<PetscInt>(rhs->n_columns()) == n_columns,
+                         "SectorFactorisation::solve_functionals: rank 0 passes ", n_columns, " columns");
+        // 1-based, as MUMPS reads them.
+        m.rhs_ptr.resize(rhs->start.size());
+        for (std::size_t j = 0; j < rhs->start.size(); ++j)
+          m.rhs_ptr[j] = static_cast<MUMPS_INT>(rhs->start[j] + 1);
+        m.rhs_rows.resize(rhs->rows.size());
+        for (std::size_t k = 0; k < rhs->rows.size(); ++k)
+          m.rhs_rows[k] = static_cast<MUMPS_INT>(rhs->rows[k] + 1);
+        m.rhs_values = rhs->values;
+        if (m.rhs_values.empty()) // MUMPS wants arrays even for empty columns
+          {
+            m.rhs_values.push_back(0.0);
+            m.rhs_rows.push_back(1);
+          }
+        id.nz_rhs      = static_cast<MUMPS_INT>(rhs->values.size());
+        id.irhs_ptr    = m.rhs_ptr.data();
+        id.irhs_sparse = m.rhs_rows.data();
+        id.rhs_sparse  = m.rhs_values.data();
+      }
+    // This process's share of the solutions: INFO(23) entries per column.
+    const auto n_local = static_cast<std::size_t>(std::max<MUMPS_INT>(id.info[22], 0));
+    m.solution_rows.resize(std::max<std::size_t>(n_local, 1));
+    m.solution.resize(std::max<std::size_t>(n_local, 1) * static_cast<std::size_t>(n_columns));
+    id.lsol_loc  = static_cast<MUMPS_INT>(std::max<std::size_t>(n_local, 1));
+    id.sol_loc   = m.solution.data();
+    id.isol_loc  = m.solution_rows.data();
+    id.nrhs      = static_cast<MUMPS_INT>(n_columns);
+    id.lrhs      = id.n;
+    id.icntl[19] = 1; // sparse right-hand sides on the host, their sparsity used where it helps
+    id.icntl[20] = 1; // the solutions stay distributed
+    const auto reset = [&] {
+      id.icntl[19] = 0;
+      id.icntl[20] = 0;
+      id.irhs_ptr    = nullptr;
+      id.irhs_sparse = nullptr;
+      id.rhs_sparse  = nullptr;
+      id.sol_loc     = nullptr;
+      id.isol_loc    = nullptr;
+      id.nz_rhs      = 0;
+    };
+    try
+      {
+        m.call(3, "substitution");
+      }
+    catch (...)
+      {
+        reset();
+        throw;
+      }
+    reset();
+    if (!m.F_local_ready)
+      {
+        // F's columns at this process's solution entries (their rows do not change between solves).
+        std::vector<Eigen::Triplet<double>> entries;
+        for (std::size_t i = 0; i < n_local; ++i)
+          {
+            const Eigen::Index g = m.solution_rows[i] - 1;
+            for (Eigen::SparseMatrix<double>::InnerIterator it(m.F, g); it; ++it)
+              entries.emplace_back(static_cast<int>(it.row()), static_cast<int>(i), it.value());
+          }
+        m.F_local.resize(m.F.rows(), static_cast<Eigen::Index>(n_local));
+        m.F_local.setFromTriplets(entries.begin(), entries.end());
+        m.F_local_ready = true;
+      }
+    Eigen::MatrixXd FX = Eigen::MatrixXd::Zero(m.F.rows(), static_cast<Eigen::Index>(n_columns));
+    if (n_local > 0)
+      FX.noalias() = m.F_local * Eigen::Map<const Eigen::MatrixXd>(m.solution.data(), static_cast<Eigen::Index>(n_local),
+                                                                    static_cast<Eigen::Index>(n_columns));
+    if (m.processes > 1)
+      {
+        if (m.rank == 0)
+          MPI_Reduce(MPI_IN_PLACE, FX.data(), static_cast<int>(FX.size()), MPI_DOUBLE, MPI_SUM, 0, comm);
+        else
+          {
+            MPI_Reduce(FX.data(), nullptr, static_cast<int>(FX.size()), MPI_DOUBLE, MPI_SUM, 0, comm);
+            FX.resize(0, 0);
+          }
+      }
+    return FX;
+  }
+
   namespace
   {
     // The end of a call's harmonics on every process of the group: a failure anywhere fails
@@ -340,6 +469,19 @@ namespace hertzgear::fem
     factors->solve(n_columns);
   }
 
+  void SectorGroup::set_functionals(const Eigen::SparseMatrix<double> &F) const
+  {
+    command(functionals_command, {});
+    factors->set_functionals(&F);
+  }
+
+  Eigen::MatrixXd SectorGroup::solve_functionals(const SparseColumns &rhs) const
+  {
+    const auto n_columns = static_cast<PetscInt>(rhs.n_columns());
+    command(functional_solve_command, {static_cast<long>(n_columns)});
+    return factors->solve_functionals(n_columns, &rhs);
+  }
+
   std::map<int, Eigen::MatrixXd> SectorGroup::harmonics(const int n_teeth, const Eigen::MatrixXd &D,
                                                         const Eigen::MatrixXd &E,
                                                         const std::map<int, Eigen::MatrixXd> &q, const int s_min,
@@ -359,15 +501,19 @@ namespace hertzgear::fem
       {
         if (between_rounds)
           between_rounds(todo);
-        // One harmonic per process, the owner's first.
-        std::vector<long> round;
-        while (!todo.empty() && static_cast<int>(round.size()) < n_processes)
+        // At most one harmonic per process (slot p for process p, -1 for none). The owner, which
+        // does the group's serial work, takes one only in a full round: a last, partial round
+        // goes to the members.
+        std::vector<long> round(static_cast<std::size_t>(n_processes), -1);
+        const bool        full = static_cast<int>(todo.size()) >= n_processes;
+        for (int p = full ? 0 : 1; p < n_processes && !todo.empty(); ++p)
           {
-            round.push_back(todo.front());
+            round[static_cast<std::size_t>(p)] = todo.front();
             todo.pop_front();
           }
         command(round_command, round);
-        add_harmonic(static_cast<int>(round[0]), n_teeth, D, E, q, s_min, s_max, u, failure, work);
+        if (round[0] >= 0)
+          add_harmonic(static_cast<int>(round[0]), n_teeth, D, E, q, s_min, s_max, u, failure, work);
       }
     command(round_command, {}); // the end of the call
     reduce_harmonics(group, u, failure);
@@ -412,6 +558,12 @@ namespace hertzgear::fem
             case solve_command:
               factors->solve(static_cast<PetscInt>(message.at(1)));
               break;
+            case functionals_command:
+              factors->set_functionals(nullptr);
+              break;
+            case functional_solve_command:
+              factors->solve_functionals(static_cast<PetscInt>(message.at(1)), nullptr);
+              break;
             case harmonics_command:
               {
                 const int N = static_cast<int>(message.at(1)), s_min = static_cast<int>(message.at(2)),
@@ -423,9 +575,9 @@ namespace hertzgear::fem
                 std::string       failure;
                 HarmonicWorkspace work;
                 const int         me = rank_of(group);
-                // Rounds until an empty one.
+                // Rounds until an empty one; slot me + 1 (after the command) is this process's.
                 for (auto round = next_command(group); round.size() > 1; round = next_command(group))
-                  if (static_cast<std::size_t>(me) < round.size() - 1)
+                  if (static_cast<std::size_t>(me) < round.size() - 1 && round[static_cast<std::size_t>(me) + 1] >= 0)
                     add_harmonic(static_cast<int>(round[static_cast<std::size_t>(me) + 1]), N, D, E, q, s_min, s_max,
                                  u, failure, work);
                 reduce_harmonics(group, u, failure);

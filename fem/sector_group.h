@@ -9,9 +9,13 @@
 //     fronts and factors over the group's processes (the owner's matrix is handed over as one
 //     distributed matrix whose rows all lie on the owner; the ordering is the sequential one of
 //     one process), and returns the dense Schur complement to the owner (ICNTL(19) = 1);
-//   - the interior solves: each block of right-hand sides goes in from the owner and its
-//     solutions come back to it, the substitution itself runs on every process of the group;
-//   - the cyclic harmonics H_k u^_k = q^_k: they go out in rounds of one per process of the group,
+//   - the interior solves: the compliance table's sparse loads and readings go in from the owner,
+//     the substitution runs on every process of the group, each process applies the functionals
+//     the table reads (cut reactions, readings) to its own part of the solutions, and the sums of
+//     these products reach the owner (solve_functionals); for the fields, blocks of dense
+//     right-hand sides go in from the owner and their solutions come back to it (solve);
+//   - the cyclic harmonics H_k u^_k = q^_k: they go out in rounds of one per process of the group
+//     (a last, partial round to the members only: the owner has the group's serial work besides),
 //     and their sum is reduced onto the owner (the members hold D and E, 2 n^2 doubles, sent
 //     once, and the condensed loads q of the call); between rounds the owner may give harmonics to
 //     ranks outside the group whose own work is done (fem/harmonic_sharing.h).
@@ -30,6 +34,7 @@
 #include "common/errors.h"
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
 #include <petscmat.h>
 
@@ -56,6 +61,16 @@ namespace hertzgear::fem
     {}
     long estimate_MB_per_process, limit_MB_per_process;
     int  processes;
+  };
+
+  // Columns of a sparse matrix of K's size rows (0-based, compressed by columns): column j holds
+  // rows[start[j] .. start[j+1]) with their values; a row at most once per column.
+  struct SparseColumns
+  {
+    std::vector<long>   start = {0};
+    std::vector<long>   rows;
+    std::vector<double> values;
+    std::size_t         n_columns() const { return start.size() - 1; }
   };
 
   // The MUMPS Cholesky (LDL^T) factorisation of a sector's symmetric positive definite K with its
@@ -87,6 +102,19 @@ namespace hertzgear::fem
     double *right_hand_sides(PetscInt n_columns) const;
     // Collective; the others pass the same n_columns and hold no block.
     void solve(PetscInt n_columns) const;
+    // Interior solves read through sparse functionals F (rows x n: the same for many solves, the
+    // rows' weights on K's DoFs): for sparse right-hand sides b_j, F K_II^-1 b_j and nothing
+    // else. The right-hand sides go in as they are (MUMPS's sparse right-hand sides, ICNTL(20) =
+    // 1, whose forward substitution skips the branches of the elimination tree they do not
+    // reach); each process keeps the part of the solutions it computed (distributed solutions,
+    // ICNTL(21) = 1) and applies F to it, and the sums of these products reach rank 0: no dense
+    // block of right-hand sides or solutions is formed, gathered or sent. Cut entries of b are
+    // ignored; F must have none on the cut rows (the solutions' cut entries are 0).
+    // set_functionals: collective; rank 0 passes F, the others nullptr.
+    void set_functionals(const Eigen::SparseMatrix<double> *F) const;
+    // solve_functionals: collective; rank 0 passes the right-hand sides and gets F X (rows of F
+    // x n_columns); the others pass nullptr, the same n_columns, and get an empty matrix.
+    Eigen::MatrixXd solve_functionals(PetscInt n_columns, const SparseColumns *rhs) const;
 
     // MUMPS's estimate of the largest memory per process of the factorisation, and its sum
     // over the processes [MB] (INFOG(16), INFOG(17) after the analysis).
@@ -120,9 +148,13 @@ namespace hertzgear::fem
     // Interior solves over the group of the block written into factorisation().right_hand_sides
     // (see SectorFactorisation::solve).
     void solve(PetscInt n_columns) const;
+    // The functionals' solves over the group (see SectorFactorisation::set_functionals,
+    // solve_functionals).
+    void set_functionals(const Eigen::SparseMatrix<double> &F) const;
+    Eigen::MatrixXd solve_functionals(const SparseColumns &rhs) const;
     // The interface displacements u_s, s = s_min .. s_max, summed over the harmonics `todo`
     // (the owner's D and E, sent by send_interface_blocks). The harmonics go out in rounds, one
-    // to each process of the group; before each round `between_rounds` may take harmonics from
+    // to each process of the group (a partial round to the members alone); before each round `between_rounds` may take harmonics from
     // the back of `todo` (for helpers outside the group, fem/harmonic_sharing.h). Throws
     // NumericalError if a harmonic failed on any process of the group.
     std::map<int, Eigen::MatrixXd> harmonics(int n_teeth, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
