@@ -27,6 +27,13 @@ namespace hertzgear::fem
     // Bytes of one block of sector right-hand sides, solved in place (one MUMPS substitution).
     constexpr double block_solve_bytes = 256.0 * 1024 * 1024;
 
+    // Columns of one block of solutions of n DoFs: MUMPS reads its factors once per block.
+    std::size_t columns_per_block(const std::size_t n)
+    {
+      return static_cast<std::size_t>(
+        std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, static_cast<double>(n))))));
+    }
+
     // The rotation (c, s) in the x-y plane applied in place to every node of x (node-blocked, dim
     // entries a node): to its rows, x <- R x, or to its columns, x <- (R x^T)^T = x R^T.
     // Column by column: the matrices are stored by columns.
@@ -457,8 +464,7 @@ namespace hertzgear::fem
   {
     // One block of right-hand sides (their solutions in place) is held at a time.
     const std::size_t n     = body.n_dofs();
-    const std::size_t block = static_cast<std::size_t>(
-      std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, static_cast<double>(n))))));
+    const std::size_t block = columns_per_block(n);
     for (std::size_t start = 0; start < n_rhs; start += block)
       {
         if (parameters.between_work_units)
@@ -493,11 +499,8 @@ namespace hertzgear::fem
   CyclicGearBody<dim>::solve_interior_functionals(const Eigen::SparseMatrix<double> &F, const std::size_t n_rhs,
                                                   const std::function<void(std::size_t, SparseColumns &)> &fill) const
   {
-    // As many columns per block as the dense blocks of solve_interior_columns hold: the factors
-    // are read once per block.
-    const std::size_t n     = body.n_dofs();
-    const std::size_t block = static_cast<std::size_t>(
-      std::max(1.0, std::floor(block_solve_bytes / (8.0 * std::max<double>(1, static_cast<double>(n))))));
+    // As many columns per block as the dense blocks of solve_interior_columns hold.
+    const std::size_t block = columns_per_block(body.n_dofs());
     if (in_group())
       parameters.sector_group->set_functionals(F);
     else

@@ -328,7 +328,6 @@ namespace hertzgear::fem
     id.sol_loc   = m.solution.data();
     id.isol_loc  = m.solution_rows.data();
     id.nrhs      = static_cast<MUMPS_INT>(n_columns);
-    id.lrhs      = id.n;
     id.icntl[19] = 1; // sparse right-hand sides on the host, their sparsity used where it helps
     id.icntl[20] = 1; // the solutions stay distributed
     const auto reset = [&] {

@@ -108,8 +108,9 @@ namespace hertzgear::fem
     // 1, whose forward substitution skips the branches of the elimination tree they do not
     // reach); each process keeps the part of the solutions it computed (distributed solutions,
     // ICNTL(21) = 1) and applies F to it, and the sums of these products reach rank 0: no dense
-    // block of right-hand sides or solutions is formed, gathered or sent. Cut entries of b are
-    // ignored; F must have none on the cut rows (the solutions' cut entries are 0).
+    // block of right-hand sides is formed and no solution is gathered or sent. Cut entries of b
+    // are ignored; F must have no entries in the cut DoFs' columns (the solutions' cut entries
+    // are 0).
     // set_functionals: collective; rank 0 passes F, the others nullptr.
     void set_functionals(const Eigen::SparseMatrix<double> *F) const;
     // solve_functionals: collective; rank 0 passes the right-hand sides and gets F X (rows of F
@@ -154,7 +155,8 @@ namespace hertzgear::fem
     Eigen::MatrixXd solve_functionals(const SparseColumns &rhs) const;
     // The interface displacements u_s, s = s_min .. s_max, summed over the harmonics `todo`
     // (the owner's D and E, sent by send_interface_blocks). The harmonics go out in rounds, one
-    // to each process of the group (a partial round to the members alone); before each round `between_rounds` may take harmonics from
+    // to each process of the group (a partial round to the members alone); before each round
+    // `between_rounds` may take harmonics from
     // the back of `todo` (for helpers outside the group, fem/harmonic_sharing.h). Throws
     // NumericalError if a harmonic failed on any process of the group.
     std::map<int, Eigen::MatrixXd> harmonics(int n_teeth, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
