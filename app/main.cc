@@ -31,6 +31,8 @@ int main(int argc, char **argv)
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   // Ranks on one node share its cores: BLAS threads per rank = cores / ranks.
   fem::share_blas_threads_between_ranks(MPI_COMM_WORLD);
+  // A rank ended by a signal ends the job with exit 3 (a rank killed by SIGKILL cannot).
+  processes::end_with_exit_code_on_fatal_signals();
 #endif
   CLI::App app{"hertzgear: finite-element contact stiffness and gear-pair dynamics", "hertzgear"};
   app.set_version_flag("--version",

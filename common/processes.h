@@ -35,4 +35,13 @@ namespace hertzgear::processes
 
   // Ends every rank of the job with `exit_code` (MPI_Abort); returns only in a single process.
   void abort_all(int exit_code);
+
+  // Under mpirun with more than one rank: a rank ended by a fatal signal it can catch (SIGTERM
+  // from a batch system or from mpirun ending the job, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT,
+  // SIGXCPU, SIGHUP) says so on stderr, naming its rank and the signal, and exits with 3 (a
+  // numerical failure: the run has no result), so that mpirun ends the other ranks and the job
+  // exits with 3. Nothing is written: files become visible only by a rename at their end
+  // (common/atomic_file.h). SIGKILL cannot be caught (mpirun then reports the killed rank with
+  // its own status, 137). Call once, after MPI is initialised; a no-op in a single process.
+  void end_with_exit_code_on_fatal_signals();
 } // namespace hertzgear::processes

@@ -5,7 +5,12 @@
 
 #include <mpi.h>
 
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <exception>
+
+#include <unistd.h>
 
 namespace hertzgear::processes
 {
@@ -115,5 +120,49 @@ namespace hertzgear::processes
   {
     if (count() > 1)
       MPI_Abort(MPI_COMM_WORLD, exit_code);
+  }
+
+  namespace
+  {
+    // The line a rank ended by a signal prints, formed before any signal comes: a handler may
+    // only call async-signal-safe functions (write, _exit), so it picks a prepared line.
+    struct FatalSignal
+    {
+      int         number;
+      const char *name;
+      char        line[192];
+    };
+    FatalSignal fatal_signals[] = {{SIGTERM, "SIGTERM", {}}, {SIGSEGV, "SIGSEGV", {}}, {SIGBUS, "SIGBUS", {}},
+                                   {SIGFPE, "SIGFPE", {}},   {SIGILL, "SIGILL", {}},   {SIGABRT, "SIGABRT", {}},
+                                   {SIGXCPU, "SIGXCPU", {}}, {SIGHUP, "SIGHUP", {}}};
+
+    extern "C" void end_rank_on_signal(const int number)
+    {
+      for (const auto &s : fatal_signals)
+        if (s.number == number)
+          {
+            const ssize_t written = write(STDERR_FILENO, s.line, std::strlen(s.line));
+            (void)written;
+            break;
+          }
+      _exit(exit_numerical);
+    }
+  } // namespace
+
+  void end_with_exit_code_on_fatal_signals()
+  {
+    if (count() == 1)
+      return;
+    for (auto &s : fatal_signals)
+      {
+        std::snprintf(s.line, sizeof(s.line),
+                      "hertzgear: error: rank %d of %d ended by signal %s: no result is written, this "
+                      "rank exits with %d and mpirun ends the others\n",
+                      rank(), count(), s.name, exit_numerical);
+        struct sigaction action = {};
+        action.sa_handler       = end_rank_on_signal;
+        sigemptyset(&action.sa_mask);
+        sigaction(s.number, &action, nullptr);
+      }
   }
 } // namespace hertzgear::processes

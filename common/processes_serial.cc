@@ -20,4 +20,5 @@ namespace hertzgear::processes
   void mark_failure_shared() { shared_failure = true; }
   bool failure_is_shared() { return shared_failure; }
   void abort_all(int) {}
+  void end_with_exit_code_on_fatal_signals() {}
 } // namespace hertzgear::processes

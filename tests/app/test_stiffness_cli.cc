@@ -804,6 +804,34 @@ TEST(StiffnessCliMpi, ARankKilledMidRunEndsTheJobWithoutATable)
     EXPECT_THAT(it->path().filename().string(), ::testing::Not(HasSubstr("hg-partial"))) << it->path();
 }
 
+TEST(StiffnessCliMpi, ARankEndedByASignalEndsEveryRankWithExitThree)
+{
+  // Requirement (bad input of the MPI stage): a rank that dies by a signal it can catch while the
+  // bodies are built — SIGSEGV as from a crash in a library, SIGTERM as from a batch system —
+  // ends every rank with exit 3 (a run without a result): it names itself and the signal, mpirun
+  // ends the other ranks (which, ended by mpirun's SIGTERM, exit with 3 as well) and the job exits
+  // with 3; no rank waits for it (`timeout` would turn a hang into exit 124) and no table is
+  // written. Rank 1 signals itself a second after the meshes are written.
+  if (std::getenv("HERTZGEAR_TEST_MPI") == nullptr)
+    GTEST_SKIP() << "set HERTZGEAR_TEST_MPI=1 (ctest app.stiffness_mpi2)";
+  for (const std::string signal : {"SEGV", "TERM"})
+    {
+      SCOPED_TRACE("SIG" + signal);
+      const fs::path    out  = fresh_temp_dir("stiffness_mpi2_sig" + signal) / "run";
+      const std::string args = "stiffness " + scene_path("paper_crowned.prm") + coarse +
+                               " --set Output/write_fields=false --out " + out.string();
+      const std::string killer =
+        "timeout 300 mpirun -np 2 --oversubscribe sh -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then "
+        "(until ls " + out.string() + "/.mesh.hg-partial-*/gear.msh >/dev/null 2>&1; do sleep 0.05; done; "
+        "sleep 1; kill -" + signal + " $$) & fi; exec \"$0\" \"$@\"'";
+      const auto r = run_hertzgear(args, killer);
+      EXPECT_EQ(r.exit_code, 3) << r.err;
+      EXPECT_THAT(r.err, HasSubstr("rank 1 of 2 ended by signal SIG" + signal)) << r.err;
+      EXPECT_FALSE(fs::exists(out / "stiffness.json"));
+      EXPECT_FALSE(fs::exists(out / "stiffness.csv"));
+    }
+}
+
 TEST(StiffnessCliMpi, TwoRanksGiveTheSerialTableOnADistributedSector)
 {
   // Requirement: the body model for a body too large for one rank, a sector assembled and
