@@ -1,5 +1,7 @@
 #include "common/progress.h"
 
+#include <ctime>
+
 #include <iomanip>
 #include "common/processes.h"
 
@@ -88,5 +90,12 @@ namespace hertzgear
         << total << " |        |\n"
         << "+------------------------------------------+------------+--------+" << std::endl;
     out.unsetf(std::ios::floatfield);
+  }
+
+  double process_cpu_seconds()
+  {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
   }
 } // namespace hertzgear

@@ -32,6 +32,9 @@ namespace hertzgear
   // "[stiffness] position 3/16  phase 0.125  ste 12.3 um  (0.42 s)"
   void progress_line(const std::string &stage, const std::string &text);
 
+  // CPU time of this process so far, every thread, user and system [s].
+  double process_cpu_seconds();
+
   // Accumulates wall time per named phase; prints a table like deal.II's TimerOutput summary.
   class PhaseTimer
   {

@@ -341,13 +341,14 @@ namespace hertzgear::fem
         std::deque<int>  todo;
         for (int k = 0; k <= N / 2; ++k)
           todo.push_back(k);
-        const int workers = parameters.sector_group->size();
         try
           {
-            auto u = parameters.sector_group->harmonics(N, D, E, q, s_min, s_max, todo, [&](std::deque<int> &t) {
-              if (sharing)
-                sharing->lend(parameters.sharing_body, t, N, D, E, q, s_min, s_max, workers);
-            });
+            auto u = parameters.sector_group->harmonics(
+              N, D, E, q, s_min, s_max, todo, [&](std::deque<int> &t, const SectorGroup::WorkLevels &group) {
+                if (sharing)
+                  sharing->lend(parameters.sharing_body, t, N, D, E, q, s_min, s_max, group.seconds_per_harmonic,
+                                group.levels);
+              });
             if (sharing)
               sharing->collect(parameters.sharing_body, u);
             return u;
@@ -388,7 +389,7 @@ namespace hertzgear::fem
             if (parameters.between_work_units)
               parameters.between_work_units();
             if (sharing)
-              sharing->lend(parameters.sharing_body, todo, N, D, E, q, s_min, s_max);
+              sharing->lend(parameters.sharing_body, todo, N, D, E, q, s_min, s_max, work.seconds_per_harmonic());
             const int k = todo.front();
             todo.pop_front();
             add_cyclic_harmonic(k, N, D, E, q, s_min, s_max, u, work);

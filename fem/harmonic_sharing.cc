@@ -1,6 +1,7 @@
 #include "fem/harmonic_sharing.h"
 
 #include "common/errors.h"
+#include "common/progress.h"
 
 #include <deal.II/lac/lapack_templates.h>
 
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
+#include <numeric>
 #include <thread>
 
 namespace hertzgear::fem
@@ -114,6 +116,34 @@ namespace hertzgear::fem
     }
   } // namespace
 
+  std::vector<int> work_levelling_shares(const int todo, const double seconds_per_harmonic,
+                                         const std::vector<double> &group_levels,
+                                         const std::vector<double> &helper_levels)
+  {
+    std::vector<int> shares(helper_levels.size(), 0);
+    if (todo < 2 || seconds_per_harmonic <= 0 || helper_levels.empty())
+      return shares;
+    // The level L: the remaining work poured onto the lowest levels first.
+    std::vector<double> levels = group_levels;
+    levels.insert(levels.end(), helper_levels.begin(), helper_levels.end());
+    std::sort(levels.begin(), levels.end());
+    const double work  = todo * seconds_per_harmonic;
+    double       below = 0, L = 0;
+    for (std::size_t k = 1; k <= levels.size(); ++k)
+      {
+        below += levels[k - 1];
+        L = (work + below) / static_cast<double>(k);
+        if (k == levels.size() || L <= levels[k])
+          break;
+      }
+    for (std::size_t i = 0; i < helper_levels.size(); ++i)
+      shares[i] = std::max(0, static_cast<int>(std::lround((L - helper_levels[i]) / seconds_per_harmonic)));
+    // The owner's group keeps at least one.
+    while (std::accumulate(shares.begin(), shares.end(), 0) > todo - 1)
+      --*std::max_element(shares.begin(), shares.end());
+    return shares;
+  }
+
   void add_cyclic_harmonic(const int k, const int N, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
                            const std::map<int, Eigen::MatrixXd> &q, const int s_min, const int s_max,
                            std::map<int, Eigen::MatrixXd> &u, HarmonicWorkspace &work)
@@ -129,6 +159,7 @@ namespace hertzgear::fem
     x.setZero(n, m);
     for (const auto &[s, qs] : q)
       x += std::polar(1.0 / N, -2.0 * M_PI * k * s / N) * qs.template cast<std::complex<double>>();
+    const double   cpu0 = process_cpu_seconds();
     const blas_int nn = static_cast<blas_int>(n), mm = static_cast<blas_int>(m);
     blas_int       info = 0;
     dealii::potrf("L", &nn, H.data(), &nn, &info);
@@ -140,14 +171,18 @@ namespace hertzgear::fem
     const double weight = (k == 0 || 2 * k == N) ? 1.0 : 2.0;
     for (int s = s_min; s <= s_max; ++s)
       u.at(s) += weight * (x * std::polar(1.0, 2.0 * M_PI * k * s / N)).real();
+    ++work.solved;
+    work.cpu_s += process_cpu_seconds() - cpu0;
   }
 
   HarmonicSharing::HarmonicSharing(MPI_Comm communicator, std::vector<int> body_owners,
                                    std::vector<std::vector<int>> body_helpers,
-                                   std::function<void(int)> first_help)
+                                   std::function<void(int)> first_help, std::function<double()> work)
     : comm(communicator), owners(std::move(body_owners)), helpers(std::move(body_helpers)),
-      on_first_help(std::move(first_help))
+      on_first_help(std::move(first_help)), work_so_far(std::move(work))
   {
+    if (!work_so_far)
+      work_so_far = process_cpu_seconds;
     MPI_Comm_rank(comm, &me);
     MPI_Comm_size(comm, &size);
     helpers.resize(owners.size());
@@ -170,31 +205,42 @@ namespace hertzgear::fem
     for (const int h : helpers[static_cast<std::size_t>(body)])
       while (message_waiting(h, tag(body, free_kind), comm))
         {
-          int word = 0;
-          MPI_Recv(&word, 1, MPI_INT, h, tag(body, free_kind), comm, MPI_STATUS_IGNORE);
+          double level = 0;
+          MPI_Recv(&level, 1, MPI_DOUBLE, h, tag(body, free_kind), comm, MPI_STATUS_IGNORE);
           ++frees_received[body][h];
-          waiting[body].insert(h);
+          waiting[body][h] = level;
         }
   }
 
   void HarmonicSharing::lend(const int body, std::deque<int> &todo, const int n_teeth,
                              const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
                              const std::map<int, Eigen::MatrixXd> &q, const int s_min, const int s_max,
-                             const int own_workers)
+                             const double seconds_per_harmonic, const std::vector<double> &group_levels)
   {
     if (!active(body))
       return;
     receive_frees(body);
     auto &free_now = waiting[body];
-    while (!free_now.empty() && todo.size() >= 2)
+    if (free_now.empty() || todo.size() < 2 || seconds_per_harmonic <= 0)
+      return;
+    std::vector<int>    free_helpers;
+    std::vector<double> helper_levels;
+    for (const auto &[h, level] : free_now)
       {
-        const int h = *free_now.begin();
-        free_now.erase(free_now.begin());
-        // An equal share for each free helper and each of the owner's workers.
-        const std::size_t share = std::max<std::size_t>(
-          1, todo.size() / (free_now.size() + 1 + static_cast<std::size_t>(std::max(1, own_workers))));
-        std::vector<int>  harmonics;
-        for (std::size_t i = 0; i < share; ++i)
+        free_helpers.push_back(h);
+        helper_levels.push_back(level);
+      }
+    const std::vector<int> shares =
+      work_levelling_shares(static_cast<int>(todo.size()), seconds_per_harmonic,
+                            group_levels.empty() ? std::vector<double>{work_so_far()} : group_levels, helper_levels);
+    for (std::size_t i = 0; i < free_helpers.size(); ++i)
+      {
+        if (shares[i] == 0)
+          continue;
+        const int h = free_helpers[i];
+        free_now.erase(h);
+        std::vector<int> harmonics;
+        for (int j = 0; j < shares[i]; ++j)
           {
             harmonics.push_back(todo.back());
             todo.pop_back();
@@ -256,8 +302,8 @@ namespace hertzgear::fem
         MPI_Recv(&frees_sent, 1, MPI_INT, h, tag(body, bye_kind), comm, MPI_STATUS_IGNORE);
         for (int i = frees_received[body][h]; i < frees_sent; ++i)
           {
-            int word = 0;
-            MPI_Recv(&word, 1, MPI_INT, h, tag(body, free_kind), comm, MPI_STATUS_IGNORE);
+            double level = 0;
+            MPI_Recv(&level, 1, MPI_DOUBLE, h, tag(body, free_kind), comm, MPI_STATUS_IGNORE);
           }
       }
   }
@@ -280,22 +326,23 @@ namespace hertzgear::fem
           others.push_back(static_cast<int>(b));
       }
     // Own bodies: STOP to every helper (the other owners too: they read it when they come to
-    // help), and the last words of the helpers without a body, who are waiting for work.
+    // help). Their last words come after this rank's help: a helper without a body of its own
+    // may still be working for another body's group (fem/sector_group.h), and this rank helps
+    // that body meanwhile.
     for (const int b : mine)
       for (const int h : helpers[static_cast<std::size_t>(b)])
         {
           const int word = 0;
           MPI_Send(&word, 1, MPI_INT, h, tag(b, stop_kind), comm);
         }
-    for (const int b : mine)
-      last_words(b, false);
 
     // Help the other bodies at once until each owner says STOP.
     std::map<int, int> frees_sent;
+    // FREE carries this rank's work so far, by which the owner sizes its share.
     for (const int b : others)
       {
-        const int word = 0;
-        MPI_Send(&word, 1, MPI_INT, owners[static_cast<std::size_t>(b)], tag(b, free_kind), comm);
+        const double level = work_so_far();
+        MPI_Send(&level, 1, MPI_DOUBLE, owners[static_cast<std::size_t>(b)], tag(b, free_kind), comm);
         ++frees_sent[b];
       }
     std::set<int>                         open(others.begin(), others.end());
@@ -355,8 +402,8 @@ namespace hertzgear::fem
                 for (auto &[s, us] : u)
                   o.matrices.push_back(std::move(us));
                 o.post(owner, tag(b, result_kind), comm);
-                const int word = 0;
-                MPI_Send(&word, 1, MPI_INT, owner, tag(b, free_kind), comm);
+                const double level = work_so_far();
+                MPI_Send(&level, 1, MPI_DOUBLE, owner, tag(b, free_kind), comm);
                 ++frees_sent[b];
                 worked = true;
                 ++it;
@@ -381,9 +428,12 @@ namespace hertzgear::fem
     for (auto &o : sending)
       o->wait();
     sending.clear();
-    // The last words of the other owners, who helped after their own bodies.
+    // The last words of every helper: each sends them when it reads STOP, in its own help.
     for (const int b : mine)
-      last_words(b, true);
+      {
+        last_words(b, false);
+        last_words(b, true);
+      }
     operators.clear();
   }
 } // namespace hertzgear::fem

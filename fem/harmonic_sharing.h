@@ -38,13 +38,29 @@ namespace hertzgear::fem
   // condensed loads q (sector -> n x m). Throws NumericalError if H_k is not positive definite.
   // `work` holds H_k and the harmonic's loads between calls, so that a run of harmonics reuses
   // their memory instead of taking fresh pages for each.
+  // It also counts the harmonics solved with it and the CPU time they took (the process's, all
+  // its threads), which the sharing of harmonics uses as the cost of one.
   struct HarmonicWorkspace
   {
     Eigen::MatrixXcd H, x;
+    int              solved = 0;
+    double           cpu_s  = 0;
+    // CPU seconds per harmonic solved so far; 0 before the first.
+    double seconds_per_harmonic() const { return solved > 0 ? cpu_s / solved : 0.0; }
   };
   void add_cyclic_harmonic(int k, int N, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
                            const std::map<int, Eigen::MatrixXd> &q, int s_min, int s_max,
                            std::map<int, Eigen::MatrixXd> &u, HarmonicWorkspace &work);
+
+  // The shares of `todo` harmonics that equalise the work of the processes that take them: the
+  // owner's group (`group_levels`, the work done so far by each of its processes [s]) and the free
+  // helpers (`helper_levels`); one harmonic costs `seconds_per_harmonic` of work. The level L
+  // that the remaining work fills up to (every process below L ends at L, none above it takes
+  // any) gives each helper round((L - its level) / seconds_per_harmonic) harmonics; the helpers
+  // together get at most todo - 1 (the owner's group keeps one), the largest shares cut first.
+  std::vector<int> work_levelling_shares(int todo, double seconds_per_harmonic,
+                                         const std::vector<double> &group_levels,
+                                         const std::vector<double> &helper_levels);
 
   class HarmonicSharing
   {
@@ -53,19 +69,25 @@ namespace hertzgear::fem
     // body b from the start. An owner helps every other body once its own is done. With one
     // process, or no helper at all, every call is a no-op. `on_first_help(b)` is called on the
     // owner of b when it first hands out harmonics (the FE stage gives back cores it borrowed,
-    // fem/core_lending.h).
+    // fem/core_lending.h). `work_so_far()` is this process's work so far [s] (the FE stage's CPU
+    // time; by default the process's CPU time): a helper reports it when it is free, and the
+    // owner shares its harmonics so that the work comes out even (work_levelling_shares).
     HarmonicSharing(MPI_Comm comm, std::vector<int> owners, std::vector<std::vector<int>> helpers,
-                    std::function<void(int)> on_first_help = {});
+                    std::function<void(int)> on_first_help = {}, std::function<double()> work_so_far = {});
     HarmonicSharing(const HarmonicSharing &)            = delete;
     HarmonicSharing &operator=(const HarmonicSharing &) = delete;
 
-    // Owner side, between its own harmonics: gives every helper of `body` that is free a share
-    // of `todo` (taken from its back; the owner keeps at least one harmonic for itself). The
-    // shares are equal among the free helpers and the owner's `own_workers` processes (its group
-    // of ranks, fem/sector_group.h).
+    // Owner side, between its own harmonics: gives the helpers of `body` that are free their
+    // shares of `todo` (taken from its back; the owner keeps at least one harmonic for itself).
+    // The shares level the work (work_levelling_shares) of the free helpers, each at the work it
+    // reported when it became free, and of the processes that solve the rest: `group_levels`,
+    // the work of each process of the owner's group (fem/sector_group.h), or, if empty, the
+    // owner alone at its work so far. `seconds_per_harmonic` is the owner's measured cost of one
+    // (HarmonicWorkspace); before the owner has solved one, 0, and nothing is lent: shares need
+    // the cost. A helper whose share is 0 stays free for a later call.
     void lend(int body, std::deque<int> &todo, int n_teeth, const Eigen::MatrixXd &D,
               const Eigen::MatrixXd &E, const std::map<int, Eigen::MatrixXd> &q, int s_min, int s_max,
-              int own_workers = 1);
+              double seconds_per_harmonic, const std::vector<double> &group_levels = {});
     // Owner side, after its own harmonics: adds the results of every share lent since the last
     // call to u; throws NumericalError with a helper's message if one of its harmonics failed.
     void collect(int body, std::map<int, Eigen::MatrixXd> &u);
@@ -91,9 +113,10 @@ namespace hertzgear::fem
     std::vector<int>              owners;
     std::vector<std::vector<int>> helpers; // per body, the other owners included
     std::function<void(int)>      on_first_help;
+    std::function<double()>       work_so_far;
     std::set<int>                 helped_once;                 // bodies that have lent
     std::map<int, std::set<int>>  has_operator;                // body -> helpers holding D, E
-    std::map<int, std::set<int>>  waiting;                     // body -> helpers free, not yet given work
+    std::map<int, std::map<int, double>> waiting;              // body -> helpers free, not yet given work -> their work [s]
     std::map<int, std::map<int, int>> frees_received, shares_out; // body -> helper -> count
     std::map<int, int>            helped;
     double                        busy_s   = 0;

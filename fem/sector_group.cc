@@ -1,6 +1,7 @@
 #include "fem/sector_group.h"
 
 #include "common/errors.h"
+#include "common/progress.h"
 #include "fem/harmonic_sharing.h"
 #include "fem/petsc_ksp.h"
 
@@ -10,6 +11,7 @@
 #include <array>
 #include <chrono>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <thread>
 
@@ -425,7 +427,9 @@ namespace hertzgear::fem
     }
   } // namespace
 
-  SectorGroup::SectorGroup(MPI_Comm g) : group(g), n_processes(size_of(g)) {}
+  SectorGroup::SectorGroup(MPI_Comm g, std::function<double()> work)
+    : group(g), work_so_far(work ? std::move(work) : std::function<double()>(process_cpu_seconds)), n_processes(size_of(g))
+  {}
 
   SectorGroup::~SectorGroup()
   {
@@ -485,7 +489,7 @@ namespace hertzgear::fem
                                                         const Eigen::MatrixXd &E,
                                                         const std::map<int, Eigen::MatrixXd> &q, const int s_min,
                                                         const int s_max, std::deque<int> todo,
-                                                        const std::function<void(std::deque<int> &)> &between_rounds) const
+                                                        const std::function<void(std::deque<int> &, const WorkLevels &)> &between_rounds) const
   {
     std::vector<long> header = {n_teeth, s_min, s_max};
     for (const auto &[s, qs] : q)
@@ -493,22 +497,50 @@ namespace hertzgear::fem
     command(harmonics_command, header);
     for (const auto &[s, qs] : q)
       broadcast_matrix(const_cast<Eigen::MatrixXd &>(qs), group); // rank 0 sends: read only
+    // The work each process had done when the harmonics began, and the harmonics given since.
+    std::vector<double> start(static_cast<std::size_t>(n_processes), 0.0);
+    double              mine = work_so_far();
+    MPI_Gather(&mine, 1, MPI_DOUBLE, start.data(), 1, MPI_DOUBLE, 0, group);
+    std::vector<int>  given(static_cast<std::size_t>(n_processes), 0);
     auto              u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
     std::string       failure;
     HarmonicWorkspace work;
+    WorkLevels        levels;
     while (!todo.empty())
       {
+        // The owner's work as it is, the members' as it will be when they have solved theirs.
+        levels.seconds_per_harmonic = work.seconds_per_harmonic();
+        levels.levels               = {work_so_far()};
+        for (int p = 1; p < n_processes; ++p)
+          levels.levels.push_back(start[static_cast<std::size_t>(p)] +
+                                  given[static_cast<std::size_t>(p)] * levels.seconds_per_harmonic);
         if (between_rounds)
-          between_rounds(todo);
-        // At most one harmonic per process (slot p for process p, -1 for none). The owner, which
-        // does the group's serial work, takes one only in a full round: a last, partial round
-        // goes to the members.
+          between_rounds(todo, levels);
+        if (todo.empty())
+          break;
+        // At most one harmonic per process (slot p for process p, -1 for none), the least busy
+        // members first. The owner, which does the group's serial work, takes one only in a full
+        // round (a last, partial round goes to the members) and not while it is ahead of the
+        // least busy member by more than half a harmonic.
         std::vector<long> round(static_cast<std::size_t>(n_processes), -1);
         const bool        full = static_cast<int>(todo.size()) >= n_processes;
-        for (int p = full ? 0 : 1; p < n_processes && !todo.empty(); ++p)
+        std::vector<int>  members(static_cast<std::size_t>(n_processes - 1));
+        std::iota(members.begin(), members.end(), 1);
+        std::stable_sort(members.begin(), members.end(), [&](const int a, const int b) {
+          return levels.levels[static_cast<std::size_t>(a)] < levels.levels[static_cast<std::size_t>(b)];
+        });
+        const double least_member =
+          members.empty() ? levels.levels[0] : levels.levels[static_cast<std::size_t>(members.front())];
+        if (full && (levels.seconds_per_harmonic <= 0 ||
+                     levels.levels[0] <= least_member + 0.5 * levels.seconds_per_harmonic))
+          members.insert(members.begin(), 0);
+        for (const int p : members)
           {
+            if (todo.empty())
+              break;
             round[static_cast<std::size_t>(p)] = todo.front();
             todo.pop_front();
+            ++given[static_cast<std::size_t>(p)];
           }
         command(round_command, round);
         if (round[0] >= 0)
@@ -528,8 +560,10 @@ namespace hertzgear::fem
     factors.reset(); // collective with the members' own
   }
 
-  double serve_sector_group(MPI_Comm group)
+  double serve_sector_group(MPI_Comm group, std::function<double()> work_so_far)
   {
+    if (!work_so_far)
+      work_so_far = process_cpu_seconds;
     std::unique_ptr<SectorFactorisation> factors;
     Eigen::MatrixXd                      D, E;
     double                               busy_s = 0;
@@ -570,6 +604,8 @@ namespace hertzgear::fem
                 std::map<int, Eigen::MatrixXd> q;
                 for (std::size_t i = 4; i < message.size(); ++i)
                   broadcast_matrix(q[static_cast<int>(message[i])], group);
+                const double mine = work_so_far(); // by which the owner shares the harmonics
+                MPI_Gather(&mine, 1, MPI_DOUBLE, nullptr, 1, MPI_DOUBLE, 0, group);
                 auto              u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
                 std::string       failure;
                 HarmonicWorkspace work;

@@ -132,7 +132,9 @@ namespace hertzgear::fem
   {
   public:
     // `group`: the owner is its rank 0; with one process every call works alone.
-    explicit SectorGroup(MPI_Comm group);
+    // `work_so_far()`: this process's work so far [s] (the FE stage's CPU time; by default the
+    // process's CPU time), by which the harmonics are shared (see harmonics).
+    explicit SectorGroup(MPI_Comm group, std::function<double()> work_so_far = {});
     // Dismisses the members if that was not done (also when the owner's work failed).
     ~SectorGroup();
     SectorGroup(const SectorGroup &)            = delete;
@@ -154,20 +156,32 @@ namespace hertzgear::fem
     void set_functionals(const Eigen::SparseMatrix<double> &F) const;
     Eigen::MatrixXd solve_functionals(const SparseColumns &rhs) const;
     // The interface displacements u_s, s = s_min .. s_max, summed over the harmonics `todo`
-    // (the owner's D and E, sent by send_interface_blocks). The harmonics go out in rounds, one
-    // to each process of the group (a partial round to the members alone); before each round
-    // `between_rounds` may take harmonics from
-    // the back of `todo` (for helpers outside the group, fem/harmonic_sharing.h). Throws
-    // NumericalError if a harmonic failed on any process of the group.
+    // (the owner's D and E, sent by send_interface_blocks). The members report their work so far
+    // at the start; the harmonics then go out in rounds of at most one per process: each member
+    // takes one in every round, the owner only in a full round and only while its work so far
+    // is not ahead of the least busy member's by more than half a harmonic (the members' work
+    // counted with the harmonics given to them, at the owner's measured cost of one: the owner
+    // does the group's serial work besides). Before each round `between_rounds(todo, levels)`
+    // may take harmonics from the back of `todo` for helpers outside the group
+    // (fem/harmonic_sharing.h), told the group's work so far in the same way (`levels`:
+    // the owner's, then each member's) and the owner's CPU time per harmonic
+    // (`levels.seconds_per_harmonic`, 0 before its first). Throws NumericalError if a harmonic
+    // failed on any process of the group.
+    struct WorkLevels
+    {
+      std::vector<double> levels;
+      double              seconds_per_harmonic = 0;
+    };
     std::map<int, Eigen::MatrixXd> harmonics(int n_teeth, const Eigen::MatrixXd &D, const Eigen::MatrixXd &E,
                                              const std::map<int, Eigen::MatrixXd> &q, int s_min, int s_max,
-                                             std::deque<int>                             todo,
-                                             const std::function<void(std::deque<int> &)> &between_rounds) const;
+                                             std::deque<int> todo,
+                                             const std::function<void(std::deque<int> &, const WorkLevels &)> &between_rounds) const;
     // Ends the members' service and frees the factorisation, collectively. Idempotent.
     void dismiss();
 
   private:
     MPI_Comm                             group;
+    std::function<double()>              work_so_far;
     int                                  n_processes = 1;
     bool                                 dismissed   = false;
     std::unique_ptr<SectorFactorisation> factors;
@@ -177,7 +191,7 @@ namespace hertzgear::fem
 
   // A member's side: follows the owner's commands until it is dismissed, and returns the wall
   // time it spent on them [s] (not the waits between them). Throws the NumericalError of a failed
-  // factorisation or harmonic (the owner throws it too).
-  double serve_sector_group(MPI_Comm group);
+  // factorisation or harmonic (the owner throws it too). `work_so_far` as for SectorGroup.
+  double serve_sector_group(MPI_Comm group, std::function<double()> work_so_far = {});
 
 } // namespace hertzgear::fem

@@ -184,6 +184,7 @@ namespace hertzgear::stiffness
       int    owner     = 0;
       double wall_s    = 0; // building and tabulating, on the owner
       std::function<void()> between_work_units; // on the owner, between its units of work
+      std::function<double()> work_so_far;      // this rank's FE work so far [s], by which harmonics are shared
       // Helpers of its harmonics while it is built (null: none), and its index among the bodies.
       fem::HarmonicSharing *sharing      = nullptr;
       int                   sharing_body = 0;
@@ -228,7 +229,7 @@ namespace hertzgear::stiffness
       {
         // The group's other ranks follow this one until it is dismissed: at the end of the work,
         // or when it fails, after the body that uses its factorisation.
-        fem::SectorGroup group(sector_group);
+        fem::SectorGroup group(sector_group, work_so_far);
         try
           {
             build_and_tabulate(group);
@@ -799,7 +800,8 @@ namespace hertzgear::stiffness
             for (unsigned int b = 0; b < 2; ++b)
               if (std::find(group_ranks[b].begin(), group_ranks[b].end(), r) == group_ranks[b].end())
                 helpers[b].push_back(r);
-        fem::HarmonicSharing sharing(MPI_COMM_WORLD, owners, helpers, [&lending](int) { lending.give_back(); });
+        const auto           fe_work = [this] { return process_cpu_seconds() - fe_cpu_start; }; // as reported
+        fem::HarmonicSharing sharing(MPI_COMM_WORLD, owners, helpers, [&lending](int) { lending.give_back(); }, fe_work);
         processes::agree([&] {
           const auto end_of_own_work = [&] {
             lending.announce(); // the partner may take this rank's cores ...
@@ -816,6 +818,7 @@ namespace hertzgear::stiffness
                       shared[b]->between_work_units = [&lending] { lending.poll(); };
                       shared[b]->sharing            = &sharing;
                       shared[b]->sharing_body       = static_cast<int>(b);
+                      shared[b]->work_so_far        = fe_work;
                       shared[b]->build_and_tabulate();
                       body_busy_s += seconds_since(t0);
                       if (shared[b]->too_large[0] == 0)
@@ -829,7 +832,7 @@ namespace hertzgear::stiffness
                 {
                   const unsigned int b = std::find(group_ranks[0].begin(), group_ranks[0].end(),
                                                    processes::rank()) != group_ranks[0].end() ? 0 : 1;
-                  body_busy_s += fem::serve_sector_group(group_comm);
+                  body_busy_s += fem::serve_sector_group(group_comm, fe_work);
                   member_of = static_cast<int>(b);
                 }
             }
@@ -886,7 +889,7 @@ namespace hertzgear::stiffness
                   body_busy_s += seconds_since(t0);
                 }
               else
-                body_busy_s += fem::serve_sector_group(all);
+                body_busy_s += fem::serve_sector_group(all, fe_work);
               my_bodies.push_back(group_unit(b, group_ranks[b]));
             });
             deferred[b] = true;
@@ -963,14 +966,6 @@ namespace hertzgear::stiffness
         return double(u.ru_maxrss) / (1024.0 * 1024.0);
       }
 
-      // CPU time of this process, every thread (user and system) [s].
-      static double process_cpu_seconds()
-      {
-        rusage u{};
-        getrusage(RUSAGE_SELF, &u);
-        return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-               1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-      }
 
       // The user did not ask for patches; say which settings make the mesh too coarse.
       std::string too_coarse_message(const unsigned int b, const fem::FlankTableSettings &s,

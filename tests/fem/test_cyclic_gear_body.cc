@@ -23,6 +23,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numeric>
+
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -343,6 +345,30 @@ namespace
     return (tables[1] - tables[0]).cwiseAbs().maxCoeff() / tables[0].cwiseAbs().maxCoeff();
   }
 } // namespace
+
+TEST(HarmonicSharing, SharesLevelTheWorkOfTheGroupAndTheFreeHelpers)
+{
+  // Requirement (fem/harmonic_sharing.h, work_levelling_shares): the owner of a body gives free
+  // helpers the shares of its remaining harmonics that make every process's work come out even.
+  // The expected shares are the closed form of the level L = (remaining work + the levels below
+  // it) / (their number), counted in harmonics of 1 s.
+  // Equal work so far: an equal share each (12 harmonics over a group of two and one helper).
+  EXPECT_EQ(fem::work_levelling_shares(12, 1.0, {10, 10}, {10}), std::vector<int>({4}));
+  // A helper that has done less work takes more: levels 20 | 10, 12 and 10 harmonics give
+  // L = (10 + 10 + 12) / 2 = 16, shares 6 and 4; the group keeps one, so the larger is cut to 5.
+  EXPECT_EQ(fem::work_levelling_shares(10, 1.0, {20}, {10, 12}), std::vector<int>({5, 4}));
+  // A helper already above the level takes none (levels 10, 10 | 13 and 4 harmonics: L = 12).
+  EXPECT_EQ(fem::work_levelling_shares(4, 1.0, {10, 10}, {13}), std::vector<int>({0}));
+  // Costs in any unit: 2.5 s per harmonic, levels 0 | 5 and 8 harmonics: L = (20 + 5) / 2 = 12.5,
+  // the helper's share (12.5 - 5) / 2.5 = 3.
+  EXPECT_EQ(fem::work_levelling_shares(8, 2.5, {0}, {5}), std::vector<int>({3}));
+  // Without a measured cost, or with fewer than two harmonics left, nothing is lent.
+  EXPECT_EQ(fem::work_levelling_shares(12, 0.0, {10}, {0, 0}), std::vector<int>({0, 0}));
+  EXPECT_EQ(fem::work_levelling_shares(1, 1.0, {10}, {0}), std::vector<int>({0}));
+  // Many idle helpers and few harmonics: never more than todo - 1 in all.
+  const auto many = fem::work_levelling_shares(3, 1.0, {50}, {0, 0, 0, 0});
+  EXPECT_EQ(std::accumulate(many.begin(), many.end(), 0), 2);
+}
 
 TEST(CyclicGearBodyMpi, HarmonicsSolvedByAHelperWithoutTheSectorGiveTheTableOfOne)
 {
