@@ -12,7 +12,8 @@
 // it comes and waits for a helper only for the result of harmonics it gave away; a helper waits
 // without spinning (a test of its messages every millisecond).
 //
-// Per body b the messages are (tags of b): helper -> owner FREE; owner -> helper JOB (a share of
+// Per body b the messages are (tags of b): helper -> owner FREE (with its work so far, by which
+// the owner sizes its share, work_levelling_shares); owner -> helper JOB (a share of
 // harmonics), or STOP when the body is done; helper -> owner RESULT (its sum, or the failure of
 // a harmonic, which the owner throws as its own NumericalError); helper -> owner BYE after STOP,
 // with the number of FREE messages it sent, so that the owner receives every one of them.

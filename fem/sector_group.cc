@@ -11,7 +11,6 @@
 #include <array>
 #include <chrono>
 #include <limits>
-#include <numeric>
 #include <string>
 #include <thread>
 
@@ -20,6 +19,7 @@ namespace hertzgear::fem
   namespace
   {
     constexpr int command_tag = 5300;
+    constexpr int done_tag    = 5301; // a member's harmonic is done: its work so far
     enum Command : long
     {
       factorise_command        = 1,
@@ -428,7 +428,8 @@ namespace hertzgear::fem
   } // namespace
 
   SectorGroup::SectorGroup(MPI_Comm g, std::function<double()> work)
-    : group(g), work_so_far(work ? std::move(work) : std::function<double()>(process_cpu_seconds)), n_processes(size_of(g))
+    : group(g), work_so_far(work ? std::move(work) : std::function<double()>(process_cpu_seconds)),
+      n_processes(size_of(g))
   {}
 
   SectorGroup::~SectorGroup()
@@ -497,56 +498,85 @@ namespace hertzgear::fem
     command(harmonics_command, header);
     for (const auto &[s, qs] : q)
       broadcast_matrix(const_cast<Eigen::MatrixXd &>(qs), group); // rank 0 sends: read only
-    // The work each process had done when the harmonics began, and the harmonics given since.
-    std::vector<double> start(static_cast<std::size_t>(n_processes), 0.0);
+    // The members' work as each last reported it (at the start, then with each harmonic done)
+    // and the harmonics given to each that it has not reported done.
+    std::vector<double> reported(static_cast<std::size_t>(n_processes), 0.0);
     double              mine = work_so_far();
-    MPI_Gather(&mine, 1, MPI_DOUBLE, start.data(), 1, MPI_DOUBLE, 0, group);
-    std::vector<int>  given(static_cast<std::size_t>(n_processes), 0);
+    MPI_Gather(&mine, 1, MPI_DOUBLE, reported.data(), 1, MPI_DOUBLE, 0, group);
+    std::vector<int> outstanding(static_cast<std::size_t>(n_processes), 0);
+    const auto       receive_done = [&](const int p) {
+      double level = 0;
+      MPI_Recv(&level, 1, MPI_DOUBLE, p, done_tag, group, MPI_STATUS_IGNORE);
+      reported[static_cast<std::size_t>(p)] = level;
+      --outstanding[static_cast<std::size_t>(p)];
+    };
     auto              u = zero_interface(D.rows(), q.begin()->second.cols(), s_min, s_max);
     std::string       failure;
     HarmonicWorkspace work;
     WorkLevels        levels;
     while (!todo.empty())
       {
+        for (int p = 1; p < n_processes; ++p)
+          for (int flag = 1; flag != 0 && outstanding[static_cast<std::size_t>(p)] > 0;)
+            {
+              MPI_Iprobe(p, done_tag, group, &flag, MPI_STATUS_IGNORE);
+              if (flag != 0)
+                receive_done(p);
+            }
         // The owner's work as it is, the members' as it will be when they have solved theirs.
         levels.seconds_per_harmonic = work.seconds_per_harmonic();
         levels.levels               = {work_so_far()};
         for (int p = 1; p < n_processes; ++p)
-          levels.levels.push_back(start[static_cast<std::size_t>(p)] +
-                                  given[static_cast<std::size_t>(p)] * levels.seconds_per_harmonic);
+          levels.levels.push_back(reported[static_cast<std::size_t>(p)] +
+                                  outstanding[static_cast<std::size_t>(p)] * levels.seconds_per_harmonic);
         if (between_rounds)
           between_rounds(todo, levels);
         if (todo.empty())
           break;
-        // At most one harmonic per process (slot p for process p, -1 for none), the least busy
-        // members first. The owner, which does the group's serial work, takes one only in a full
-        // round (a last, partial round goes to the members) and not while it is ahead of the
-        // least busy member by more than half a harmonic.
-        std::vector<long> round(static_cast<std::size_t>(n_processes), -1);
-        const bool        full = static_cast<int>(todo.size()) >= n_processes;
-        std::vector<int>  members(static_cast<std::size_t>(n_processes - 1));
-        std::iota(members.begin(), members.end(), 1);
-        std::stable_sort(members.begin(), members.end(), [&](const int a, const int b) {
+        // A round: one harmonic for each member that has none left to solve, the least busy
+        // first (slot p for process p, -1 for none), and one for the owner if more are left than
+        // the free members take and it is not ahead of the least busy member by more than half a
+        // harmonic (the owner does the group's serial work besides). A member that is still busy
+        // gets nothing now, so that harmonics not yet given can still go to helpers.
+        std::vector<int> free_members;
+        for (int p = 1; p < n_processes; ++p)
+          if (outstanding[static_cast<std::size_t>(p)] == 0)
+            free_members.push_back(p);
+        std::stable_sort(free_members.begin(), free_members.end(), [&](const int a, const int b) {
           return levels.levels[static_cast<std::size_t>(a)] < levels.levels[static_cast<std::size_t>(b)];
         });
         const double least_member =
-          members.empty() ? levels.levels[0] : levels.levels[static_cast<std::size_t>(members.front())];
-        if (full && (levels.seconds_per_harmonic <= 0 ||
-                     levels.levels[0] <= least_member + 0.5 * levels.seconds_per_harmonic))
-          members.insert(members.begin(), 0);
-        for (const int p : members)
+          n_processes > 1 ? *std::min_element(levels.levels.begin() + 1, levels.levels.end()) : levels.levels[0];
+        const bool owner_takes = todo.size() > free_members.size() &&
+                                 (levels.seconds_per_harmonic <= 0 ||
+                                  levels.levels[0] <= least_member + 0.5 * levels.seconds_per_harmonic);
+        std::vector<long> round(static_cast<std::size_t>(n_processes), -1);
+        if (owner_takes)
+          {
+            round[0] = todo.front();
+            todo.pop_front();
+          }
+        bool to_members = false;
+        for (const int p : free_members)
           {
             if (todo.empty())
               break;
             round[static_cast<std::size_t>(p)] = todo.front();
             todo.pop_front();
-            ++given[static_cast<std::size_t>(p)];
+            ++outstanding[static_cast<std::size_t>(p)];
+            to_members = true;
           }
-        command(round_command, round);
+        if (to_members)
+          command(round_command, round);
         if (round[0] >= 0)
           add_harmonic(static_cast<int>(round[0]), n_teeth, D, E, q, s_min, s_max, u, failure, work);
+        else if (!to_members)
+          std::this_thread::sleep_for(std::chrono::milliseconds(1)); // every member busy, the owner ahead
       }
     command(round_command, {}); // the end of the call
+    for (int p = 1; p < n_processes; ++p)
+      while (outstanding[static_cast<std::size_t>(p)] > 0)
+        receive_done(p);
     reduce_harmonics(group, u, failure);
     return u;
   }
@@ -610,11 +640,16 @@ namespace hertzgear::fem
                 std::string       failure;
                 HarmonicWorkspace work;
                 const int         me = rank_of(group);
-                // Rounds until an empty one; slot me + 1 (after the command) is this process's.
+                // Rounds until an empty one; slot me + 1 (after the command) is this process's,
+                // and each harmonic done is reported with this process's work so far.
                 for (auto round = next_command(group); round.size() > 1; round = next_command(group))
                   if (static_cast<std::size_t>(me) < round.size() - 1 && round[static_cast<std::size_t>(me) + 1] >= 0)
-                    add_harmonic(static_cast<int>(round[static_cast<std::size_t>(me) + 1]), N, D, E, q, s_min, s_max,
-                                 u, failure, work);
+                    {
+                      add_harmonic(static_cast<int>(round[static_cast<std::size_t>(me) + 1]), N, D, E, q, s_min,
+                                   s_max, u, failure, work);
+                      const double level = work_so_far();
+                      MPI_Send(&level, 1, MPI_DOUBLE, 0, done_tag, group);
+                    }
                 reduce_harmonics(group, u, failure);
               }
               break;

@@ -14,11 +14,12 @@
 //     the table reads (cut reactions, readings) to its own part of the solutions, and the sums of
 //     these products reach the owner (solve_functionals); for the fields, blocks of dense
 //     right-hand sides go in from the owner and their solutions come back to it (solve);
-//   - the cyclic harmonics H_k u^_k = q^_k: they go out in rounds of one per process of the group
-//     (a last, partial round to the members only: the owner has the group's serial work besides),
-//     and their sum is reduced onto the owner (the members hold D and E, 2 n^2 doubles, sent
-//     once, and the condensed loads q of the call); between rounds the owner may give harmonics to
-//     ranks outside the group whose own work is done (fem/harmonic_sharing.h).
+//   - the cyclic harmonics H_k u^_k = q^_k: they go out one at a time to each process of the
+//     group that is free, shared by the work each process has done (the owner has the group's
+//     serial work besides: it takes fewer, see harmonics), and their sum is reduced onto the
+//     owner (the members hold D and E, 2 n^2 doubles, sent once, and the condensed loads q of the
+//     call); meanwhile the owner may give harmonics to ranks outside the group whose own work is
+//     done (fem/harmonic_sharing.h).
 // The other ranks of the group hold no mesh: they run serve_sector_group, which follows the
 // owner's commands until the owner dismisses them. Commands go from the owner to each member
 // point to point; a member waits for the next without spinning (a test every millisecond); the
@@ -157,16 +158,17 @@ namespace hertzgear::fem
     Eigen::MatrixXd solve_functionals(const SparseColumns &rhs) const;
     // The interface displacements u_s, s = s_min .. s_max, summed over the harmonics `todo`
     // (the owner's D and E, sent by send_interface_blocks). The members report their work so far
-    // at the start; the harmonics then go out in rounds of at most one per process: each member
-    // takes one in every round, the owner only in a full round and only while its work so far
-    // is not ahead of the least busy member's by more than half a harmonic (the members' work
-    // counted with the harmonics given to them, at the owner's measured cost of one: the owner
-    // does the group's serial work besides). Before each round `between_rounds(todo, levels)`
-    // may take harmonics from the back of `todo` for helpers outside the group
-    // (fem/harmonic_sharing.h), told the group's work so far in the same way (`levels`:
-    // the owner's, then each member's) and the owner's CPU time per harmonic
-    // (`levels.seconds_per_harmonic`, 0 before its first). Throws NumericalError if a harmonic
-    // failed on any process of the group.
+    // at the start and with each harmonic they finish; the harmonics go out one at a time to
+    // each member that has none left to solve (the least busy first), so that those not yet
+    // given stay free for helpers. The owner takes one itself when more are left than its free
+    // members take and it is not ahead of the least busy member by more than half a harmonic
+    // (the members' work counted with the harmonics they hold, at the owner's measured cost of
+    // one; the owner does the group's serial work besides); otherwise it waits for a member
+    // without spinning. Before each round `between_rounds(todo, levels)` may take harmonics
+    // from the back of `todo` for helpers outside the group (fem/harmonic_sharing.h), told the
+    // group's work in the same way (`levels.levels`: the owner's, then each member's) and the
+    // owner's CPU time per harmonic (`levels.seconds_per_harmonic`, 0 before its first). Throws
+    // NumericalError if a harmonic failed on any process of the group.
     struct WorkLevels
     {
       std::vector<double> levels;
