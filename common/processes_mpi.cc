@@ -130,11 +130,12 @@ namespace hertzgear::processes
     {
       int         number;
       const char *name;
-      char        line[192];
+      char        line[256];
     };
-    FatalSignal fatal_signals[] = {{SIGTERM, "SIGTERM", {}}, {SIGSEGV, "SIGSEGV", {}}, {SIGBUS, "SIGBUS", {}},
-                                   {SIGFPE, "SIGFPE", {}},   {SIGILL, "SIGILL", {}},   {SIGABRT, "SIGABRT", {}},
-                                   {SIGXCPU, "SIGXCPU", {}}, {SIGHUP, "SIGHUP", {}}};
+    FatalSignal fatal_signals[] = {{SIGTERM, "SIGTERM (sent by mpirun when another rank has failed, or from outside)", {}},
+                                   {SIGSEGV, "SIGSEGV", {}}, {SIGBUS, "SIGBUS", {}},   {SIGFPE, "SIGFPE", {}},
+                                   {SIGILL, "SIGILL", {}},   {SIGABRT, "SIGABRT", {}}, {SIGXCPU, "SIGXCPU", {}},
+                                   {SIGHUP, "SIGHUP", {}}};
 
     extern "C" void end_rank_on_signal(const int number)
     {

@@ -39,8 +39,9 @@ namespace hertzgear::fem
   // condensed loads q (sector -> n x m). Throws NumericalError if H_k is not positive definite.
   // `work` holds H_k and the harmonic's loads between calls, so that a run of harmonics reuses
   // their memory instead of taking fresh pages for each.
-  // It also counts the harmonics solved with it and the CPU time they took (the process's, all
-  // its threads), which the sharing of harmonics uses as the cost of one.
+  // It also counts the harmonics solved with it and the CPU time of their factorisations and
+  // solves (the process's, all its threads), which the sharing of harmonics uses as the cost of
+  // one.
   struct HarmonicWorkspace
   {
     Eigen::MatrixXcd H, x;
