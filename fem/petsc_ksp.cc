@@ -173,6 +173,13 @@ namespace hertzgear
         if (!user_limit)
           check_petsc(MatMumpsSetIcntl(F, 23, static_cast<PetscInt>(limit_MB)),
                       "MatMumpsSetIcntl(23)");
+        // Right-hand sides per pass of a block substitution (mumps_rhs_per_pass) unless
+        // PETSC_OPTIONS sets it.
+        PetscBool user_block = PETSC_FALSE;
+        check_petsc(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_27", &user_block),
+                    "PetscOptionsHasName");
+        if (!user_block)
+          check_petsc(MatMumpsSetIcntl(F, 27, mumps_rhs_per_pass), "MatMumpsSetIcntl(27)");
         check_petsc(KSPSetUp(ksp), "KSPSetUp (MUMPS factorisation)");
         // PETSc does not stop on a failed MUMPS factorisation; a later substitution would fail
         // with a misleading INFOG(1) = -3. Say what MUMPS reported, now.

@@ -13,8 +13,9 @@ namespace hertzgear
     void check_petsc(PetscErrorCode ierr, const char *what);
 
     // Creates `ksp` on `comm` as a MUMPS LU of A (KSPPREONLY + PCLU) and factorises it now, once:
-    // every KSPSolve afterwards is one forward/backward substitution. MUMPS controls (ordering,
-    // memory) stay tunable through PETSC_OPTIONS, e.g. "-mat_mumps_icntl_7 5" for METIS ordering.
+    // every KSPSolve afterwards is one forward/backward substitution; block substitutions carry
+    // mumps_rhs_per_pass right-hand sides per pass. MUMPS controls (ordering, memory, blocking)
+    // stay tunable through PETSC_OPTIONS, e.g. "-mat_mumps_icntl_7 5" for METIS ordering.
     //
     // Memory guard: MUMPS may allocate at most `memory_limit_MB` per process for the
     // factorisation (its ICNTL(23)); 0 = the memory available to this process now
@@ -53,5 +54,13 @@ namespace hertzgear
     // the factors are read once per block instead of once per right-hand side (BLAS 3 instead of
     // BLAS 2). rhs[j] and solution[j] share A's row layout; solution[j] must be created.
     void mumps_block_solve(KSP ksp, const std::vector<Vec> &rhs, const std::vector<Vec> &solution);
+
+    // Right-hand sides MUMPS carries through one pass over its factors in a block substitution
+    // (its ICNTL(27); MUMPS's own default is 32). A pass reads the whole factor, so wider passes
+    // read it fewer times: on the 3D full-gear sectors (118 899 and 105 039 DoFs, 494 right-hand
+    // sides) 128 takes 20 % off the solves and no memory the factorisation's peak does not already
+    // hold; 512 gains no more and adds 0.3 GB (docs/accuracy-stiffness.md, "Cost of a full
+    // cycle"). PETSC_OPTIONS "-mat_mumps_icntl_27 N" overrides it.
+    constexpr int mumps_rhs_per_pass = 128;
   } // namespace fem
 } // namespace hertzgear

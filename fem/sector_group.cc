@@ -140,6 +140,8 @@ namespace hertzgear::fem
     // The memory guard: at most this per process (ICNTL(23), MB).
     const long limit = memory_limit_MB > 0 ? memory_limit_MB : available_memory_MB_per_rank(comm);
     id.icntl[22] = static_cast<MUMPS_INT>(std::min<long>(limit, std::numeric_limits<MUMPS_INT>::max()));
+    // Right-hand sides per pass over the factors in a block substitution (fem/petsc_ksp.h).
+    id.icntl[26] = mumps_rhs_per_pass;
     // PETSC_OPTIONS -mat_mumps_icntl_<i>, as for PETSc's own MUMPS factorisations.
     for (int i = 1; i <= 60; ++i)
       {

@@ -77,7 +77,8 @@ namespace hertzgear::fem
   // The MUMPS Cholesky (LDL^T) factorisation of a sector's symmetric positive definite K with its
   // Schur complement on the cut-face rows, on one process or over a group, through MUMPS's own C
   // interface: PETSc's MUMPS interface forms a Schur complement on one process only (its
-  // MatMatSolve refuses one made over several). The controls are PETSc's: MUMPS's defaults, and
+  // MatMatSolve refuses one made over several). The controls are PETSc's: MUMPS's defaults but
+  // for the right-hand sides per substitution pass (fem/petsc_ksp.h, mumps_rhs_per_pass), and
   // PETSC_OPTIONS "-mat_mumps_icntl_<i> <value>" sets ICNTL(i) here too. Memory guard as in
   // fem/petsc_ksp.h (ICNTL(23), the memory available per rank or `memory_limit_MB`).
   class SectorFactorisation
