@@ -8,6 +8,7 @@
 // is *shared*: every rank ends with its exit code and rank 0 alone prints it. A failure on one
 // rank alone after the command's start ends the whole job (abort_all), so that no rank waits for
 // a collective call that another rank has left.
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -44,4 +45,14 @@ namespace hertzgear::processes
   // (common/atomic_file.h). SIGKILL cannot be caught (mpirun then reports the killed rank with
   // its own status, 137). Call once, after MPI is initialised; a no-op in a single process.
   void end_with_exit_code_on_fatal_signals();
+
+  // Independent units of work shared out over `count` processes by their expected work (any
+  // measure that grows with it): largest first, each to the process with the least of it so far
+  // (the longest-processing-time rule: the busiest process ends at most 4/3 of the best possible,
+  // and at most the largest unit above the mean). A tie goes to the process with the least
+  // `earlier_work` (the work each did before, in any unit; none: all equal), then to the lowest
+  // rank. Returns the process of each unit. The same inputs give the same shares on every rank,
+  // so every rank knows who solves what without a message.
+  std::vector<std::size_t> share_by_work(const std::vector<double> &work, std::size_t count,
+                                         const std::vector<double> &earlier_work = {});
 } // namespace hertzgear::processes

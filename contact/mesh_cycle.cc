@@ -177,20 +177,20 @@ namespace hertzgear::contact
     return {std::max(-half_face, centre - half), std::min(half_face, centre + half)};
   }
 
-  MeshCycle::Grid MeshCycle::build_grid(const double mesh_phase, const double w,
-                                        const FaceBand &face) const
+  bool MeshCycle::on_extended_path(const double roll_mm) const
+  {
+    const double ext = settings.extended_contact_pitches * kinematics.base_pitch_mm();
+    return roll_mm >= kinematics.point('A').roll_distance_mm - ext - 1e-12 &&
+           roll_mm <= kinematics.point('E').roll_distance_mm + ext + 1e-12;
+  }
+
+  MeshCycle::Grid MeshCycle::grid_frame(const double mesh_phase, const double w, const FaceBand &face) const
   {
     Grid         g;
-    const double s_A = kinematics.point('A').roll_distance_mm;
-    const double s_E = kinematics.point('E').roll_distance_mm;
-    const double p_b = kinematics.base_pitch_mm();
-    const double ext = settings.extended_contact_pitches * p_b;
-
+    const double p_b    = kinematics.base_pitch_mm();
     const auto  &pinion = kinematics.pinion();
     const auto  &gear   = kinematics.gear();
-    const double r_b1   = pinion.base_radius_mm();
     const double slope  = kinematics.contact_line_slope(); // 0 spur
-    const double cos_bb = kinematics.cos_base_helix();     // 1 spur
     g.face_width        = std::min(pinion.face_width_mm(), gear.face_width_mm());
     g.n_u               = settings.profile_cells;
     g.n_z               = settings.plane_strain ? 1 : settings.face_cells;
@@ -206,7 +206,7 @@ namespace hertzgear::contact
 
     // The pairs whose contact line lies on the (extended) path of contact in some face column of
     // the grid (spur: at its one roll s_j).
-    const auto in_path = [&](const double s) { return s >= s_A - ext - 1e-12 && s <= s_E + ext + 1e-12; };
+    const auto   in_path = [&](const double s) { return on_extended_path(s); };
     const double reach   = std::abs(slope) * std::max(std::abs(g.z_min), std::abs(g.z_max));
     const int    n_reach = static_cast<int>(std::ceil(reach / p_b));
     for (int pair = -3 - n_reach; pair <= 3 + n_reach; ++pair)
@@ -225,6 +225,26 @@ namespace hertzgear::contact
             g.roll_mm.push_back(s);
           }
       }
+    return g;
+  }
+
+  unsigned int MeshCycle::grid_cells(const double mesh_phase, const double load_N) const
+  {
+    const Grid g = grid_frame(mesh_phase, band_half_width(load_N), face_band(load_N));
+    return static_cast<unsigned int>(g.pairs.size()) * g.n_u * g.n_z;
+  }
+
+  MeshCycle::Grid MeshCycle::build_grid(const double mesh_phase, const double w,
+                                        const FaceBand &face) const
+  {
+    Grid         g      = grid_frame(mesh_phase, w, face);
+    const auto  &pinion = kinematics.pinion();
+    const auto  &gear   = kinematics.gear();
+    const double r_b1   = pinion.base_radius_mm();
+    const double slope  = kinematics.contact_line_slope(); // 0 spur
+    const double cos_bb = kinematics.cos_base_helix();     // 1 spur
+    const auto   column_z = [&](const unsigned int iz) { return g.z_min + (iz + 0.5) * g.dz; };
+    const auto   in_path  = [&](const double s) { return on_extended_path(s); };
     HG_REQUIRE_NUMERIC(!g.pairs.empty(), "no tooth pair in contact at mesh phase ", mesh_phase);
     for (const int pair : g.pairs)
       HG_REQUIRE_INPUT(compliances[0]->covers_tooth(pair) && compliances[1]->covers_tooth(-pair),

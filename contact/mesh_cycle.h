@@ -220,6 +220,10 @@ namespace hertzgear::contact
     // assemble; a caller that shares the positions out over processes solves them where it likes
     // and assembles the same result from them.
     MeshCycleResult assemble(double load_N, std::vector<PositionResult> positions) const;
+    // The cells of the contact grid of position `mesh_phase` at `load_N` before any enlargement
+    // of its face band (PositionResult::n_cells when none is needed): what a position's solve
+    // costs grows with it, so that a caller sharing positions out over processes can weigh them.
+    unsigned int grid_cells(double mesh_phase, double load_N) const;
 
     // Half-width of the contact band across the profile [mm] at this load.
     double band_half_width(double load_N) const;
@@ -240,6 +244,11 @@ namespace hertzgear::contact
 
   private:
     struct Grid;
+    // Whether a contact line at this pinion roll [mm] lies on the path of contact A..E extended
+    // by extended_contact_pitches base pitches at either end.
+    bool on_extended_path(double roll_mm) const;
+    // The grid's extent, cell sizes and tooth pairs (no cells yet); build_grid adds the cells.
+    Grid grid_frame(double mesh_phase, double band_half_width_mm, const FaceBand &face) const;
     Grid build_grid(double mesh_phase, double band_half_width_mm, const FaceBand &face) const;
     ContactSolution  solve_contact(const Grid &grid, double load_N) const;
 

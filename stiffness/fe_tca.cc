@@ -1040,11 +1040,10 @@ namespace hertzgear::stiffness
       };
 
       // The contact cycles of a stage on the shared FE bodies, their positions shared out over the
-      // ranks: position k of the stage (counted cycle by cycle) is solved by rank k mod P, and
-      // every rank then receives every position (docs/accuracy-stiffness.md, "MPI: what runs
-      // where"). A position's solve is the same code on the same compliances whichever rank runs
-      // it, and every rank assembles each cycle from the same positions: the cycles do not depend
-      // on P. `done(c, cycle, work_s)` is called on every rank for every cycle in order, work_s
+      // ranks by their expected work (processes::share_by_work), and every rank then receives
+      // every position (docs/accuracy-stiffness.md, "MPI: what runs where"). A position's solve is
+      // the same code on the same compliances whichever rank runs it, and every rank assembles
+      // each cycle from the same positions: the cycles do not depend on P. `done(c, cycle, work_s)` is called on every rank for every cycle in order, work_s
       // the sum of its positions' solve times: with one rank as soon as the cycle is solved, on
       // several after the exchange. `position_line(c, i, p, s, rank)` is called on rank 0 for each
       // position it solves, and after the exchange for the other ranks' positions; without it, a
@@ -1075,10 +1074,41 @@ namespace hertzgear::stiffness
           }
         const auto P    = static_cast<std::size_t>(processes::count());
         const auto me   = static_cast<std::size_t>(processes::rank());
-        if (P > n_total)
-          progress_line("stiffness", msg("warning: ", P, " ranks for the ", n_total, " contact positions of ",
-                                         jobs.size() == 1 ? label(0) : msg(label(0), " .. ", label(jobs.size() - 1)),
-                                         ": ranks ", n_total, " to ", P - 1, " have none"));
+        // Who solves each position (flat index k = first[c] + i), and its place in that rank's list.
+        std::vector<std::size_t> owner(n_total, 0), slot(n_total, 0);
+        if (P > 1)
+          processes::agree([&] {
+            // A position's solve costs about the square of its grid's cells (the cells' dense
+            // compliance matrix; two pairs' 768 cells take 3.3 times one pair's 384).
+            std::vector<double> work(n_total);
+            for (std::size_t c = 0; c < jobs.size(); ++c)
+              for (unsigned int i = 0; i < jobs[c].settings.n_positions; ++i)
+                {
+                  const double cells = cycles[c]->grid_cells(cycles[c]->phase_of_position(i), jobs[c].load_N);
+                  work[first[c] + i] = cells * cells;
+                }
+            // On a tie the rank that has worked least so far (its bodies, its help with other
+            // bodies' harmonics and its earlier contact stages) takes the position.
+            const auto earlier = dealii::Utilities::MPI::all_gather(MPI_COMM_WORLD, body_busy_s + contact_busy_s);
+            owner = processes::share_by_work(work, P, earlier);
+            std::vector<std::size_t> taken(P, 0);
+            for (std::size_t k = 0; k < n_total; ++k)
+              slot[k] = taken[owner[k]]++;
+            if (P > n_total)
+              {
+                std::vector<std::size_t> none;
+                for (std::size_t r = 0; r < P; ++r)
+                  if (taken[r] == 0)
+                    none.push_back(r);
+                std::ostringstream list;
+                for (std::size_t i = 0; i < none.size(); ++i)
+                  list << (i == 0 ? "" : ", ") << none[i];
+                progress_line("stiffness", msg("warning: ", P, " ranks for the ", n_total, " contact positions of ",
+                                               jobs.size() == 1 ? label(0) : msg(label(0), " .. ", label(jobs.size() - 1)),
+                                               ": rank", none.size() == 1 ? " " : "s ", list.str(),
+                                               none.size() == 1 ? " has" : " have", " none"));
+              }
+          });
         const auto t0   = std::chrono::steady_clock::now();
         const auto finish = [&](const std::size_t c, std::vector<contact::PositionResult> positions,
                                 const double work_s) {
@@ -1104,7 +1134,7 @@ namespace hertzgear::stiffness
               double      here_s      = 0;
               for (unsigned int i = 0; i < jobs[c].settings.n_positions; ++i)
                 {
-                  if ((first[c] + i) % P != me)
+                  if (owner[first[c] + i] != me)
                     continue;
                   const auto start = std::chrono::steady_clock::now();
                   auto       p     = cycles[c]->solve_position(cycles[c]->phase_of_position(i), jobs[c].load_N);
@@ -1135,7 +1165,7 @@ namespace hertzgear::stiffness
         if (P == 1)
           return;
 
-        // Every rank's positions on every rank; position k is the (k div P)-th of rank k mod P.
+        // Every rank's positions on every rank; position k is the slot[k]-th of rank owner[k].
         const auto all = dealii::Utilities::MPI::all_gather(MPI_COMM_WORLD, mine);
         for (std::size_t c = 0; c < jobs.size(); ++c)
           {
@@ -1143,7 +1173,7 @@ namespace hertzgear::stiffness
             double                               work_s = 0;
             for (unsigned int i = 0; i < jobs[c].settings.n_positions; ++i)
               {
-                const std::size_t k = first[c] + i, r = k % P, j = k / P;
+                const std::size_t k = first[c] + i, r = owner[k], j = slot[k];
                 positions.push_back(all[r].positions.at(j));
                 work_s += all[r].seconds.at(j);
                 if (position_line && r != 0)
