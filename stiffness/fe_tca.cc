@@ -1078,6 +1078,10 @@ namespace hertzgear::stiffness
         std::vector<std::size_t> owner(n_total, 0), slot(n_total, 0);
         if (P > 1)
           processes::agree([&] {
+            // On a tie the rank that has worked least so far (its bodies, its help with other
+            // bodies' harmonics and its earlier contact stages) takes the position. Gathered
+            // first: nothing before this collective call can fail on one rank alone.
+            const auto earlier = dealii::Utilities::MPI::all_gather(MPI_COMM_WORLD, body_busy_s + contact_busy_s);
             // A position's solve costs about the square of its grid's cells (the cells' dense
             // compliance matrix; two pairs' 768 cells take 3.3 times one pair's 384).
             std::vector<double> work(n_total);
@@ -1087,9 +1091,6 @@ namespace hertzgear::stiffness
                   const double cells = cycles[c]->grid_cells(cycles[c]->phase_of_position(i), jobs[c].load_N);
                   work[first[c] + i] = cells * cells;
                 }
-            // On a tie the rank that has worked least so far (its bodies, its help with other
-            // bodies' harmonics and its earlier contact stages) takes the position.
-            const auto earlier = dealii::Utilities::MPI::all_gather(MPI_COMM_WORLD, body_busy_s + contact_busy_s);
             owner = processes::share_by_work(work, P, earlier);
             std::vector<std::size_t> taken(P, 0);
             for (std::size_t k = 0; k < n_total; ++k)
