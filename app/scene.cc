@@ -332,6 +332,17 @@ namespace hertzgear
               "Mesh misalignment variants f_ma [um] of the map (replacing "
               "Operating/mesh_misalignment_um), at the scene's torque, each with every crowning "
               "variant; empty = none.");
+        s.add("helix_slope_deviation_um", st.map_helix_slope_deviation_um, {},
+              Patterns::List(Patterns::Double(-1000.0, 1000.0), 0, 64, ","),
+              "Helix slope deviation variants f_Hbeta [um] of the map, each the pinion's (replacing "
+              "Gear pair/Pinion/helix_slope_deviation_um; the gear keeps its own: the contact sees "
+              "the sum of the two), at the scene's torque, each with every crowning variant; "
+              "empty = none.");
+        s.add("combination", st.map_combination, "separate", Patterns::Selection("separate|product"),
+              "How the map's lists combine: separate = every torque with every crowning, then each "
+              "misalignment and each helix slope variant at the scene's torque with every "
+              "crowning; product = every combination of crowning x helix slope x misalignment x "
+              "torque (a tolerance study; an empty list keeps the scene's value).");
         s.leave();
         s.enter("Fourier", "Stiffness given as Fourier coefficients (source = fourier): "
                            "k(t) = mean + sum_j a_j cos(j omega_m t - phi_j).");
@@ -691,11 +702,16 @@ namespace hertzgear
                        " must be less than Sweep/periods_per_point = ", w.periods_per_point);
     }
 
-    // Whether `entry` is a helix key of a spur gear (helix_angle_deg = 0) of `sc`. Those stay out of
-    // the scene hash: a spur scene keeps the hash it had before the keys existed (stiffness tables
-    // and run.json record it), whichever hand it names and however it writes 0.
-    bool is_spur_helix_key(const Scene &sc, const ParameterFile::Entry &entry)
+    // Whether `entry` stays out of the scene hash: a helix key of a spur gear (helix_angle_deg = 0)
+    // of `sc`, whichever hand it names and however it writes 0, and a key of the tolerance study
+    // (Stiffness/Map/helix_slope_deviation_um, combination) at its default, which changes nothing.
+    // A scene keeps the hash it had before those keys existed (stiffness tables and run.json
+    // record it).
+    bool stays_out_of_hash(const Scene &sc, const ParameterFile::Entry &entry)
     {
+      if (entry.section() == "Stiffness/Map" &&
+          (entry.key() == "helix_slope_deviation_um" || entry.key() == "combination"))
+        return entry.text() == entry.default_text();
       const GearScene *gear = entry.section() == "Gear pair/Pinion" ? &sc.pinion :
                               entry.section() == "Gear pair/Gear"   ? &sc.gear :
                                                                       nullptr;
@@ -763,7 +779,7 @@ namespace hertzgear
     sc.hash = hash_hex(schema.prm.print(ParameterFile::Style::short_form,
                                         ParameterFile::Order::alphabetical,
                                         [&sc](const ParameterFile::Entry &e) {
-                                          return is_spur_helix_key(sc, e);
+                                          return stays_out_of_hash(sc, e);
                                         }));
     return sc;
   }

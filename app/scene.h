@@ -96,6 +96,8 @@ namespace hertzgear
     std::vector<double> load_ladder_percent;       // of Operating/torque_Nm (fe-map)
     std::vector<double> map_crowning_um;           // pinion lead crowning variants
     std::vector<double> map_mesh_misalignment_um;  // mesh misalignment variants
+    std::vector<double> map_helix_slope_deviation_um; // pinion f_Hb variants
+    std::string         map_combination;           // separate | product
   };
 
   struct MeshScene

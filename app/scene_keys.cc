@@ -20,6 +20,7 @@ namespace hertzgear
         {"torque_map_percent", "Stiffness/Map/torque_percent"},
         {"crowning_map_mm", "Stiffness/Map/crowning_um"},
         {"misalignment_map_mm", "Stiffness/Map/mesh_misalignment_um"},
+        {"helix_slope_map_mm", "Stiffness/Map/helix_slope_deviation_um"},
         {"load_ladder_percent", "Stiffness/load_ladder_percent"},
         {"positions_per_cycle", "Stiffness/positions_per_cycle"},
         {"harmonics", "Stiffness/harmonics"},

@@ -68,6 +68,9 @@ namespace hertzgear
       in.crowning_map_mm.push_back(beta * 1e-3);
     for (const double f : st.map_mesh_misalignment_um)
       in.misalignment_map_mm.push_back(f * 1e-3);
+    for (const double f : st.map_helix_slope_deviation_um)
+      in.helix_slope_map_mm.push_back(f * 1e-3);
+    in.map_product = st.map_combination == "product";
     return in;
   }
 

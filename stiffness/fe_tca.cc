@@ -1385,7 +1385,10 @@ namespace hertzgear::stiffness
         line << "map " << c + 1 << "/" << n_cases << "  torque " << std::setprecision(5) << mc.torque_Nm
              << " N m (" << mc.torque_percent << " %)  crowning " << mc.pinion_crowning_mm * 1e3
              << (mc.gear_crowning_mm != mc.pinion_crowning_mm ? msg("/", mc.gear_crowning_mm * 1e3) : "")
-             << " um  misalignment " << mc.mesh_misalignment_mm * 1e3 << " um:  STE p-p "
+             << " um  misalignment " << mc.mesh_misalignment_mm * 1e3 << " um  f_Hb "
+             << mc.pinion_helix_slope_deviation_mm * 1e3
+             << (mc.gear_helix_slope_deviation_mm != 0 ? msg("/", mc.gear_helix_slope_deviation_mm * 1e3) : "")
+             << " um:  STE p-p "
              << std::fixed << std::setprecision(3) << ste_max - ste_min << " um  peak pressure "
              << std::setprecision(0) << p_max << " MPa  (" << std::setprecision(2) << mc.contact_time_s
              << " s)";

@@ -13,37 +13,64 @@ namespace hertzgear::stiffness
     std::vector<MapCase> cases;
     if (!in.has_map())
       return cases;
-    // A crowning variant crowns both gears; without variants each keeps its own (NaN).
-    std::vector<double> crownings = in.crowning_map_mm;
-    if (crownings.empty())
-      crownings.push_back(std::numeric_limits<double>::quiet_NaN());
-    std::vector<double> percents = in.torque_map_percent;
-    if (percents.empty() && !in.crowning_map_mm.empty())
-      percents.push_back(100.0);
-    const auto add = [&](const double percent, const double crowning, const double misalignment) {
+    // An empty axis keeps the pair's own value: NaN marks it (a crowning variant crowns both
+    // gears, an f_Hb variant is the pinion's).
+    constexpr double own       = std::numeric_limits<double>::quiet_NaN();
+    const auto       or_own    = [&](std::vector<double> axis) {
+      if (axis.empty())
+        axis.push_back(own);
+      return axis;
+    };
+    const std::vector<double> crownings = or_own(in.crowning_map_mm);
+    const std::vector<double> slopes    = or_own(in.helix_slope_map_mm);
+    std::vector<double>       percents  = in.torque_map_percent;
+    const auto add = [&](const double percent, const double crowning, const double misalignment,
+                         const double slope) {
       MapCase c;
-      c.torque_percent       = percent;
-      c.torque_Nm            = in.torque_Nm * percent / 100.0;
-      c.pinion_crowning_mm   = std::isnan(crowning) ? in.pair.pinion.crowning_mm : crowning;
-      c.gear_crowning_mm     = std::isnan(crowning) ? in.pair.gear.crowning_mm : crowning;
-      c.mesh_misalignment_mm = misalignment;
+      c.torque_percent                  = percent;
+      c.torque_Nm                       = in.torque_Nm * percent / 100.0;
+      c.pinion_crowning_mm              = std::isnan(crowning) ? in.pair.pinion.crowning_mm : crowning;
+      c.gear_crowning_mm                = std::isnan(crowning) ? in.pair.gear.crowning_mm : crowning;
+      c.mesh_misalignment_mm            = std::isnan(misalignment) ? in.pair.mesh_misalignment_mm : misalignment;
+      c.pinion_helix_slope_deviation_mm = std::isnan(slope) ? in.pair.pinion.helix_slope_deviation_mm : slope;
+      c.gear_helix_slope_deviation_mm   = in.pair.gear.helix_slope_deviation_mm;
       cases.push_back(c);
     };
+    if (in.map_product)
+      {
+        // Every combination; torque innermost, so that each design's STE-against-torque curve
+        // is contiguous, crowning outermost.
+        if (percents.empty())
+          percents.push_back(100.0);
+        for (const double crowning : crownings)
+          for (const double slope : slopes)
+            for (const double misalignment : or_own(in.misalignment_map_mm))
+              for (const double percent : percents)
+                add(percent, crowning, misalignment, slope);
+        return cases;
+      }
+    if (percents.empty() && !in.crowning_map_mm.empty())
+      percents.push_back(100.0);
     for (const double crowning : crownings)
       for (const double percent : percents)
-        add(percent, crowning, in.pair.mesh_misalignment_mm);
+        add(percent, crowning, own, own);
     for (const double crowning : crownings)
       for (const double misalignment : in.misalignment_map_mm)
-        add(100.0, crowning, misalignment);
+        add(100.0, crowning, misalignment, own);
+    for (const double crowning : crownings)
+      for (const double slope : in.helix_slope_map_mm)
+        add(100.0, crowning, own, slope);
     return cases;
   }
 
   meshing::PairParameters map_case_pair(const StiffnessInput &in, const MapCase &c)
   {
-    meshing::PairParameters p = in.pair;
-    p.pinion.crowning_mm      = c.pinion_crowning_mm;
-    p.gear.crowning_mm        = c.gear_crowning_mm;
-    p.mesh_misalignment_mm    = c.mesh_misalignment_mm;
+    meshing::PairParameters p          = in.pair;
+    p.pinion.crowning_mm               = c.pinion_crowning_mm;
+    p.gear.crowning_mm                 = c.gear_crowning_mm;
+    p.mesh_misalignment_mm             = c.mesh_misalignment_mm;
+    p.pinion.helix_slope_deviation_mm  = c.pinion_helix_slope_deviation_mm;
+    p.gear.helix_slope_deviation_mm    = c.gear_helix_slope_deviation_mm;
     return p;
   }
 
@@ -54,10 +81,18 @@ namespace hertzgear::stiffness
       if (!(percent > 0))
         throw ParameterError("torque_map_percent",
                              msg(percent, ": every torque of the map must be positive (% of {torque_Nm})"));
-    if (in.has_map() && in.fe.dimension != 3 &&
-        (!in.crowning_map_mm.empty() || !in.misalignment_map_mm.empty()))
-      throw ParameterError(in.crowning_map_mm.empty() ? "misalignment_map_mm" : "crowning_map_mm",
-                           "lead crowning and misalignment vary along the face: they need {dimension} = 3");
+    struct Axis
+    {
+      const char *field, *what;
+      const std::vector<double> &values;
+    };
+    if (in.has_map() && in.fe.dimension != 3)
+      for (const Axis &axis : {Axis{"crowning_map_mm", "a lead crowning", in.crowning_map_mm},
+                               Axis{"misalignment_map_mm", "a misalignment", in.misalignment_map_mm},
+                               Axis{"helix_slope_map_mm", "a helix slope deviation", in.helix_slope_map_mm}})
+        if (!axis.values.empty())
+          throw ParameterError(axis.field, msg(axis.values.front() * 1e3, " um: ", axis.what,
+                                               " varies along the face: it needs {dimension} = 3"));
     for (const auto &c : map_cases(in))
       try
         {
@@ -65,11 +100,14 @@ namespace hertzgear::stiffness
         }
       catch (const InputError &e)
         {
-          const bool crowning = c.pinion_crowning_mm != in.pair.pinion.crowning_mm ||
-                                c.gear_crowning_mm != in.pair.gear.crowning_mm;
-          throw ParameterError(crowning ? "crowning_map_mm" : "misalignment_map_mm",
-                               msg(crowning ? c.pinion_crowning_mm * 1e3 : c.mesh_misalignment_mm * 1e3,
-                                   " um: ", e.what()));
+          // The first of the case's values that is not the pair's own names the map's field.
+          const auto &p = in.pair;
+          if (c.pinion_crowning_mm != p.pinion.crowning_mm || c.gear_crowning_mm != p.gear.crowning_mm)
+            throw ParameterError("crowning_map_mm", msg(c.pinion_crowning_mm * 1e3, " um: ", e.what()));
+          if (c.mesh_misalignment_mm != p.mesh_misalignment_mm)
+            throw ParameterError("misalignment_map_mm", msg(c.mesh_misalignment_mm * 1e3, " um: ", e.what()));
+          throw ParameterError("helix_slope_map_mm",
+                               msg(c.pinion_helix_slope_deviation_mm * 1e3, " um: ", e.what()));
         }
   }
 

@@ -70,20 +70,25 @@ namespace hertzgear::stiffness
     // source fourier: the series themselves (SI).
     FourierSeries k_rest_N_per_m, k_hertz_N_per_m_pow_n;
     FeSettings    fe;
-    // Load and design map (source fem): further contact cycles on the same bodies. Cases: every
-    // torque (percent of torque_Nm; none: torque_Nm) with every lead crowning variant (each on
-    // both gears; none: the pair's own), then every mesh misalignment variant at torque_Nm with
-    // every crowning variant.
+    // Load and design map (source fem): further contact cycles on the same bodies, on the axes
+    // torque (percent of torque_Nm), lead crowning (each variant on both gears), mesh
+    // misalignment and the pinion's helix slope deviation f_Hb; an empty axis keeps the pair's
+    // own value. Which combinations run: stiffness/load_map.h.
     std::vector<double> torque_map_percent;
     std::vector<double> crowning_map_mm;
     std::vector<double> misalignment_map_mm;
+    std::vector<double> helix_slope_map_mm;
+    // false: every torque with every crowning, then each misalignment and each f_Hb at torque_Nm
+    // with every crowning; true: every combination of the four axes (a tolerance study).
+    bool map_product = false;
     // The load ladder of the FE force law (source fem; docs/dynamics.md "The FE force law"): the
     // mesh cycle again at each of these loads [% of torque_Nm], increasing, the top >= 100, on the
     // same bodies, into the table's load_ladder. Empty: no ladder.
     std::vector<double> load_ladder_percent;
     bool has_map() const
     {
-      return !torque_map_percent.empty() || !crowning_map_mm.empty() || !misalignment_map_mm.empty();
+      return !torque_map_percent.empty() || !crowning_map_mm.empty() || !misalignment_map_mm.empty() ||
+             !helix_slope_map_mm.empty();
     }
   };
 
@@ -114,13 +119,14 @@ namespace hertzgear::stiffness
     double pinion_roll_mm = 0, z_mm = 0, pressure_MPa = 0;
   };
 
-  // One case of the load and design map: its torque, lead crowning and mesh misalignment, and
-  // the rows of its contact cycle.
+  // One case of the load and design map: its torque, lead crowning, mesh misalignment and helix
+  // slope deviations, and the rows of its contact cycle.
   struct MapCase
   {
     double                          torque_Nm = 0, torque_percent = 0, load_N = 0;
     double                          pinion_crowning_mm = 0, gear_crowning_mm = 0;
     double                          mesh_misalignment_mm = 0;
+    double                          pinion_helix_slope_deviation_mm = 0, gear_helix_slope_deviation_mm = 0;
     std::vector<PositionRow>        rows;
     std::vector<ContactPatternCell> pattern;
     double                          contact_time_s = 0;

@@ -115,6 +115,7 @@ namespace hertzgear::stiffness
     std::ostringstream os;
     os << std::setprecision(10);
     os << "case,torque_Nm,torque_percent,load_N,pinion_crowning_um,gear_crowning_um,mesh_misalignment_um,"
+          "pinion_helix_slope_deviation_um,gear_helix_slope_deviation_um,"
        << row_columns
        << '\n';
     for (std::size_t c = 0; c < r.map.size(); ++c)
@@ -124,7 +125,8 @@ namespace hertzgear::stiffness
           {
             os << c << ',' << m.torque_Nm << ',' << m.torque_percent << ',' << m.load_N << ','
                << m.pinion_crowning_mm * 1e3 << ',' << m.gear_crowning_mm * 1e3 << ','
-               << m.mesh_misalignment_mm * 1e3 << ',';
+               << m.mesh_misalignment_mm * 1e3 << ',' << m.pinion_helix_slope_deviation_mm * 1e3 << ','
+               << m.gear_helix_slope_deviation_mm * 1e3 << ',';
             write_row(os, i, m.rows[i]);
           }
       }
@@ -161,6 +163,8 @@ namespace hertzgear::stiffness
         j["pinion_crowning_um"]   = m.pinion_crowning_mm * 1e3;
         j["gear_crowning_um"]     = m.gear_crowning_mm * 1e3;
         j["mesh_misalignment_um"] = m.mesh_misalignment_mm * 1e3;
+        j["pinion_helix_slope_deviation_um"] = m.pinion_helix_slope_deviation_mm * 1e3;
+        j["gear_helix_slope_deviation_um"]   = m.gear_helix_slope_deviation_mm * 1e3;
         j["contact_time_s"]       = m.contact_time_s;
         cases.push_back(j);
       }

@@ -788,6 +788,17 @@ def crowning_of(case):
     return (float(case["pinion_crowning_um"]), float(case["gear_crowning_um"]))
 
 
+def slope_of(case):
+    """The pinion's helix slope deviation f_Hβ of a map case [µm]; 0 for a map without it."""
+    v = case.get("pinion_helix_slope_deviation_um")
+    return float(v) if is_number(v) else 0.0
+
+
+def design_of(case):
+    """What a map case varies besides the torque: (crowning, f_ma, f_Hβ)."""
+    return crowning_of(case) + (float(case["mesh_misalignment_um"]), slope_of(case))
+
+
 def series_by_crowning(cases, keep, x_key):
     """{crowning: cases sorted by x_key} of the cases `keep` accepts, one case per x value (the
     first in case order)."""
@@ -821,21 +832,42 @@ class LoadMap:
         if misalignment is None and self.cases:
             misalignment = float(self.cases[0]["mesh_misalignment_um"])
         self.scene_misalignment_um = misalignment
+        self.scene_slope_um = prm_float(scene.prm, "Gear pair/Pinion",
+                                        "helix_slope_deviation_um") or 0.0
 
     def _contact_number(self, key):
         v = self.contact.get(key)
         return float(v) if is_number(v) else None
 
+    def at_scene_slope(self, case):
+        return same(slope_of(case), self.scene_slope_um)
+
     def torque_series(self):
-        """{crowning: cases over torque} at the scene's misalignment."""
+        """{crowning: cases over torque} at the scene's misalignment and helix slope."""
         return series_by_crowning(
-            self.cases, lambda c: same(c["mesh_misalignment_um"], self.scene_misalignment_um),
-            "torque_Nm")
+            self.cases, lambda c: same(c["mesh_misalignment_um"], self.scene_misalignment_um)
+            and self.at_scene_slope(c), "torque_Nm")
 
     def misalignment_series(self):
-        """{crowning: cases over misalignment} at the nominal torque (100 %)."""
-        return series_by_crowning(self.cases, lambda c: same(c["torque_percent"], 100.0),
-                                  "mesh_misalignment_um")
+        """{crowning: cases over misalignment} at the nominal torque (100 %) and the scene's
+        helix slope."""
+        return series_by_crowning(
+            self.cases, lambda c: same(c["torque_percent"], 100.0) and self.at_scene_slope(c),
+            "mesh_misalignment_um")
+
+    def is_scene_design(self, case):
+        """Whether a case has the scene's own crowning, misalignment and helix slope."""
+        return (same(float(case["pinion_crowning_um"]), self.scene_crowning_um)
+                and same(float(case["mesh_misalignment_um"]), self.scene_misalignment_um)
+                and self.at_scene_slope(case))
+
+    def designs_by_torque(self):
+        """{torque [N m]: the cases at that torque, one per design (crowning, f_ma, f_Hβ)}, in
+        increasing torque."""
+        groups = {}
+        for c in self.cases:
+            groups.setdefault(float(c["torque_Nm"]), {}).setdefault(design_of(c), c)
+        return {t: list(groups[t].values()) for t in sorted(groups)}
 
     def pattern_crowning(self, series):
         """The crowning of `series` whose contact patterns to show: the scene's, else the

@@ -366,6 +366,59 @@ def ste_against_torque(sec, lmap):
             % (nominal, fmt_number(lmap.scene_misalignment_um)))
 
 
+def tolerance_study(sec, lmap):
+    """The spread of the map's designs at each torque (a tolerance study, Stiffness/Map/
+    combination = product): STE peak to peak and peak pressure of every design, their envelope
+    and the scene's own design."""
+    groups = lmap.designs_by_torque()
+    spread = {t: cases for t, cases in groups.items() if len(cases) >= 3}
+    if len(spread) < 2:
+        sec.note("The map has fewer than two torques with three or more designs each (crowning, "
+                 "misalignment, helix slope; Stiffness/Map/combination = product makes them): "
+                 "the tolerance-study figure is left out.")
+        return
+    torques = sorted(spread)
+    n_designs = max(len(cases) for cases in spread.values())
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    quantities = ((lambda c: c["ste_peak_to_peak_um"], "Peak-to-peak loaded STE",
+                   label("STE peak to peak", unit="µm")),
+                  (off_tips_pressure, "Maximum peak pressure away from the tips",
+                   label("peak contact pressure", unit="MPa")))
+    for ax, (y, title, ylabel) in zip(axes, quantities):
+        lo = [min(y(c) for c in spread[t]) for t in torques]
+        hi = [max(y(c) for c in spread[t]) for t in torques]
+        ax.fill_between(torques, lo, hi, color=COLORS[0], alpha=0.18, lw=0,
+                        label="range over the designs")
+        for t in torques:
+            cases = spread[t]
+            v = np.array([y(c) for c in cases], dtype=float)
+            edge = edge_contact(cases)
+            ax.plot(np.full(int((~edge).sum()), t), v[~edge], "o", ms=3.5, color="#777777",
+                    alpha=0.8)
+            ax.plot(np.full(int(edge.sum()), t), v[edge], "o", ms=5, mfc="white", mec="#777777",
+                    mew=1.2)
+        nominal = [(t, y(c)) for t in torques for c in spread[t] if lmap.is_scene_design(c)]
+        if len(nominal) > 1:
+            ax.plot(*zip(*nominal), "-o", color="#222222", lw=1.6, ms=4, label="the scene's design")
+        t, case = max(((t, c) for t in torques for c in spread[t]), key=lambda p: y(p[1]))
+        ax.plot(t, y(case), "o", mfc="none", mec="#c0392b", mew=1.8, ms=11,
+                label="worst: %.4g, case %d" % (y(case), int(case["case"])))
+        ax.set_title(title, loc="left")
+        ax.set_xlabel(label("pinion torque", unit="N m"))
+        ax.set_ylabel(ylabel)
+        ax.legend(loc="best", fontsize=8.5, frameon=True, framealpha=0.9, edgecolor="#dddddd")
+    percent_axis(axes[0], spread[torques[0]])
+    percent_axis(axes[1], spread[torques[0]])
+    publish(sec, "tolerance_study.png", fig,
+            "Tolerance study: at each torque of the map, every design it ran (up to %d: lead "
+            "crowning × mesh misalignment f<sub>ma</sub> × helix slope deviation f<sub>Hβ</sub>) "
+            "as a grey dot (hollow: the contact reaches a face end somewhere in the cycle), their "
+            "range shaded, the scene's own design as a line and the worst case ringed (its case "
+            "number in the legend; its values in the map table): the loaded STE peak to peak "
+            "over the mesh cycle (left) and the highest peak contact pressure away from the tips "
+            "(right)." % n_designs)
+
+
 def mark_face_ends(ax, half_width):
     if half_width is None:
         return

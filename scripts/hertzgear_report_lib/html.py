@@ -100,6 +100,8 @@ MAP_COLUMNS = (
     ("crowning pinion/gear (µm)",
      lambda c: "%g/%g" % (c["pinion_crowning_um"], c["gear_crowning_um"])),
     ("misalignment f<sub>ma</sub> (µm)", lambda c: "%g" % c["mesh_misalignment_um"]),
+    ("f<sub>Hβ</sub> pinion/gear (µm)",
+     lambda c: "%g/%g" % (c["pinion_helix_slope_deviation_um"], c["gear_helix_slope_deviation_um"])),
     ("STE p-p (µm)", lambda c: "%.3f" % c["ste_peak_to_peak_um"]),
     ("mean k<sub>total</sub> (N/µm)", lambda c: "%.1f" % (1e-6 * c["mean_k_total_N_per_m"])),
     ("max peak pressure (MPa)", lambda c: "%.0f" % c["max_peak_pressure_MPa"]),
@@ -127,9 +129,10 @@ def map_table(cases, n_positions):
     return ("<details open><summary>Load and design map: %d cases</summary><p>Per case: the "
             "loaded STE peak to peak and the mean mesh stiffness over the mesh cycle, the highest "
             "Hertzian peak pressure, and at how many mesh positions (%s) the contact reaches a "
-            "face end or the tip. The torque cases come first (each crowning variant at every "
-            "torque), then the misalignment cases (each crowning variant at every "
-            "misalignment, nominal torque).</p><table class=\"data\"><thead><tr>%s</tr></thead>"
+            "face end or the tip. In the case order of the map (Stiffness/Map/combination): "
+            "separate lists the torque cases first (each crowning variant at every torque), then "
+            "the misalignment and the helix slope cases (each crowning variant at every value, "
+            "nominal torque); product lists every combination, the torque innermost.</p><table class=\"data\"><thead><tr>%s</tr></thead>"
             "<tbody>%s</tbody></table></details>" % (len(cases), positions, head, rows))
 
 

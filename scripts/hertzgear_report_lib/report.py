@@ -81,6 +81,7 @@ class Report:
         self.attempt(sec, "STE-against-torque figure", figures.ste_against_torque, lmap)
         self.attempt(sec, "misalignment figure", figures.pressure_centre_against_misalignment,
                      lmap)
+        self.attempt(sec, "tolerance-study figure", figures.tolerance_study, lmap)
         self.attempt(sec, "contact patterns at several torques",
                      figures.contact_patterns_over_torque, lmap)
         self.attempt(sec, "contact patterns at several misalignments",

@@ -113,10 +113,13 @@ TEST(Report, NestedRunGivesEveryFigure)
         "phase_portrait.png", "force_penetration.png", "spectrum.png", "sweep_rms.png",
         "bifurcation.png", "accuracy_1.png", "ste_against_torque.png",
         "misalignment_pressure_centre.png", "contact_pattern_torque.png",
-        "contact_pattern_misalignment.png", "contact_lines.png"})
+        "contact_pattern_misalignment.png", "contact_lines.png", "tolerance_study.png"})
     EXPECT_EQ(on_page.count(expected), 1u) << expected << " missing from the page";
-  // The load and design map is tabulated per case.
-  EXPECT_THAT(html, HasSubstr("Load and design map: 14 cases"));
+  // The load and design map is tabulated per case: a tolerance study of 2 crownings x 2 helix
+  // slopes x 3 misalignments x 4 torques (tests/support/make_report_artifacts.py), whose spread
+  // over the 12 designs at each torque the tolerance-study figure draws.
+  EXPECT_THAT(html, HasSubstr("Load and design map: 48 cases"));
+  EXPECT_THAT(html, HasSubstr("every design it ran (up to 12: lead"));
 
   // Every figure has a caption; the scene's effects and the summary are tabulated.
   const std::regex figure_without_caption(R"(<figure><img[^>]*></figure>)");

@@ -100,8 +100,9 @@ TEST(Scene, OverridesApplyInOrderAndChangeTheHash)
 }
 
 // Requirement: the helix keys are per gear (ISO 21771) and converted to the meshing stage's
-// radians and hands; a spur gear's helix keys (helix angle 0) stay out of the scene hash, so a spur
-// scene keeps the hash it had before those keys existed (run.json and the stiffness tables record
+// radians and hands; a spur gear's helix keys (helix angle 0) and the tolerance study's map keys at
+// their defaults stay out of the scene hash, so a spur scene keeps the hash it had before those
+// keys existed (run.json and the stiffness tables record
 // it): ee57e12182fca8d8 for paper_uncrowned.prm with the contact grid's face extent of that time
 // (face-width; with the default, load, every scene hashes differently, as a changed default
 // must), whatever hand or spelling of 0 it gives; a helical scene has its own hash.
@@ -128,6 +129,14 @@ TEST(Scene, HelixKeysConvertAndLeaveTheSpurHashAsItWas)
                                    {"Gear pair/Pinion/hand=left", "Gear pair/Gear/helix_angle_deg=0.0"});
   EXPECT_EQ(spelled.hash, spur.hash);
   EXPECT_NE(helical.hash, spur.hash);
+  // The tolerance study's keys at their defaults stay out of the hash too; set, they count.
+  EXPECT_EQ(load_scene(scene_path("paper_uncrowned.prm"), {"Stiffness/Map/combination=separate"}).hash,
+            spur.hash);
+  EXPECT_NE(load_scene(scene_path("paper_uncrowned.prm"), {"Stiffness/Map/combination=product"}).hash,
+            spur.hash);
+  EXPECT_NE(load_scene(scene_path("paper_uncrowned.prm"),
+                       {"Stiffness/Map/helix_slope_deviation_um=5"}).hash,
+            spur.hash);
   // The resolved parameters list the keys all the same (what a run used).
   EXPECT_THAT(spur.used_parameters_prm, HasSubstr("set helix_angle_deg"));
 }

@@ -30,6 +30,12 @@ namespace
                              " --set Stiffness/positions_per_cycle=5"
                              " --set Stiffness/harmonics=2";
 
+  // A coarse 3D cycle of three positions without fields: the crowned pair along its face in
+  // seconds.
+  const std::string coarse_3d = " --set Stiffness/fe_level=0 --set Stiffness/fe_degree=1"
+                                " --set Stiffness/positions_per_cycle=3 --set Stiffness/harmonics=1"
+                                " --set Output/write_fields=false";
+
   // Requirement of the memory guard: a `hertzgear stiffness` run whose MUMPS factorisation is
   // estimated beyond `limit_MB` (PETSC_OPTIONS -mat_mumps_icntl_23) stops before it allocates,
   // as a numerical failure (exit 3) whose message names `estimate`, and leaves no table behind.
@@ -107,7 +113,13 @@ TEST(StiffnessCli, LoadsAndSettingsItCannotAnalyseExitTwo)
     // The load and design map and the micro-geometry (docs/user-guide.md).
     {" --set Stiffness/Map/torque_percent=50,0", "Stiffness/Map/torque_percent = 0"},
     {" --set Stiffness/Map/torque_percent=-10", "Stiffness/Map/torque_percent = -10"},
-    {" --set Stiffness/Map/mesh_misalignment_um=20", "need Stiffness/fe_dimension = 3"},
+    {" --set Stiffness/Map/mesh_misalignment_um=20", "needs Stiffness/fe_dimension = 3"},
+    {" --set Stiffness/Map/helix_slope_deviation_um=5",
+     "Stiffness/Map/helix_slope_deviation_um = 5 um: a helix slope deviation varies along the face"},
+    {" --set Stiffness/fe_dimension=3 --set Stiffness/Map/combination=product"
+     " --set Stiffness/Map/torque_percent=50,100 --set Stiffness/Map/helix_slope_deviation_um=0,-1000"
+     " --set 'Gear pair/Pinion/crowning_um=400'",
+     "Stiffness/Map/helix_slope_deviation_um = -1000 um: pinion: crowning 400 um"},
     {" --set Stiffness/source=iso6336 --set Stiffness/Map/torque_percent=50",
      "needs the contact analysis of Stiffness/source = fem"},
     // (in 3D: the plane-strain model refuses any value that varies along the face width)
@@ -184,9 +196,7 @@ TEST(StiffnessCli, AContactThatReachesAFaceEndIsReportedNotRefused)
   // single-torque table, the same numbers (identical text).
   const fs::path out = fresh_temp_dir("stiffness_face_end");
   const auto     r   = run_hertzgear(
-    "stiffness " + scene_path("paper_crowned.prm") +
-    " --set Stiffness/fe_level=0 --set Stiffness/fe_degree=1 --set Stiffness/positions_per_cycle=3"
-    " --set Stiffness/harmonics=1 --set Output/write_fields=false"
+    "stiffness " + scene_path("paper_crowned.prm") + coarse_3d +
     " --set Stiffness/Map/crowning_um=0,80 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(csv_rows(out / "stiffness_map.csv", 1), csv_rows(out / "stiffness.csv"));
@@ -199,6 +209,55 @@ TEST(StiffnessCli, AContactThatReachesAFaceEndIsReportedNotRefused)
   EXPECT_EQ(json.at("map").at(0).at("face_end_contact_positions").get<int>(), 3);
   EXPECT_EQ(json.at("contact").at("face_end_contact_positions").get<int>(), 0);
   EXPECT_TRUE(fs::exists(out / "contact_pattern.csv"));
+}
+
+TEST(StiffnessCli, AToleranceStudyRunsEveryCombinationAndAHelixSlopeActsAsAMisalignment)
+{
+  // Requirements of a tolerance study (Stiffness/Map/combination = product): (1) every
+  // combination of the lists runs, misalignment outer and helix slope outermost, the case at the
+  // scene's own values being the scene's table (same problem, same bodies: identical text);
+  // (2) the pinion's helix slope deviation f_Hb and the mesh misalignment f_ma both add
+  // (value) z / b to the lead gap over the same face width (docs/geometry.md), so the case
+  // (f_Hb = 12 um, f_ma = 0) is the case (f_Hb = 0, f_ma = 12 um): equal rows within the
+  // round-off of summing the gap in another order (1e-9 relative, far above that round-off and
+  // far below the 12 um tilt's effect); (3) that tilt moves the contact to the vertex of the lead
+  // gap, z* = -f b / (8 beta_total) = -12 * 20 / (8 * 160) = -0.1875 mm (f > 0 opens the +z
+  // end), at every position within 10 %: the vertex is the rigid estimate, and the bodies'
+  // compliance, which differs towards the face ends, and the coarse grid move the force centre
+  // by a few per cent (1 % at this resolution), where the scene's own contact is centred.
+  const fs::path out = fresh_temp_dir("stiffness_tolerance_study");
+  const auto     r   = run_hertzgear(
+    "stiffness " + scene_path("paper_crowned.prm") + coarse_3d +
+    " --set Stiffness/Map/combination=product --set Stiffness/Map/mesh_misalignment_um=0,12"
+    " --set Stiffness/Map/helix_slope_deviation_um=0,12 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("map 4/4  torque 210 N m (100 %)  crowning 80 um  misalignment 12 um  f_Hb 12 um"));
+  const auto json = nlohmann::json::parse(slurp(out / "stiffness.json"));
+  ASSERT_EQ(json.at("map").size(), 4u);
+  const double expected[4][2] = {{0, 0}, {12, 0}, {0, 12}, {12, 12}}; // f_ma, f_Hb
+  for (std::size_t c = 0; c < 4; ++c)
+    {
+      EXPECT_DOUBLE_EQ(json.at("map").at(c).at("mesh_misalignment_um").get<double>(), expected[c][0]);
+      EXPECT_DOUBLE_EQ(json.at("map").at(c).at("pinion_helix_slope_deviation_um").get<double>(),
+                       expected[c][1]);
+    }
+  EXPECT_EQ(csv_rows(out / "stiffness_map.csv", 0), csv_rows(out / "stiffness.csv"));
+  const auto by_misalignment = csv_rows(out / "stiffness_map.csv", 1);
+  const auto by_slope        = csv_rows(out / "stiffness_map.csv", 2);
+  const auto scene           = csv_rows(out / "stiffness.csv");
+  ASSERT_EQ(by_misalignment.size(), 3u);
+  ASSERT_EQ(by_slope.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i)
+    {
+      // columns: 2 ste_um, 3 k_total, 12 peak_pressure_MPa, 13 k_total_tangent, 14 contact_centre_z_mm
+      for (const int k : {2, 3, 12, 13})
+        EXPECT_NEAR(column(by_slope[i], k), column(by_misalignment[i], k),
+                    1e-9 * std::abs(column(by_misalignment[i], k)))
+          << "column " << k << ": " << by_slope[i] << " vs " << by_misalignment[i];
+      EXPECT_NEAR(column(by_slope[i], 14), column(by_misalignment[i], 14), 1e-9);
+      EXPECT_NEAR(column(by_slope[i], 14), -0.1875, 0.1 * 0.1875) << by_slope[i];
+      EXPECT_NEAR(column(scene[i], 14), 0.0, 1e-9) << scene[i];
+    }
 }
 
 TEST(StiffnessCli, AFullGearBeyondTheMemoryLimitStopsBeforeItsFactorisation)

@@ -42,6 +42,70 @@ TEST(LoadMap, TorquesRunWithEveryCrowningThenMisalignmentsAtTheScenesTorque)
   EXPECT_TRUE(map_cases(test_pairs::paper_pair()).empty());
 }
 
+TEST(LoadMap, HelixSlopeVariantsAreThePinionsAtTheScenesTorque)
+{
+  // Requirement: each helix slope variant f_Hb replaces the pinion's own at the scene's torque
+  // and misalignment, with every crowning, after the torques; the gear keeps its own f_Hb.
+  auto in                               = test_pairs::paper_pair(0.080);
+  in.fe.dimension                       = 3;
+  in.pair.gear.helix_slope_deviation_mm = 0.003;
+  in.pair.mesh_misalignment_mm          = 0.004;
+  in.torque_map_percent                 = {50};
+  in.helix_slope_map_mm                 = {-0.010, 0.010};
+  const auto cases                      = map_cases(in);
+  ASSERT_EQ(cases.size(), 3u);
+  EXPECT_DOUBLE_EQ(cases[0].pinion_helix_slope_deviation_mm, 0.0);
+  for (std::size_t c = 1; c < 3; ++c)
+    {
+      EXPECT_DOUBLE_EQ(cases[c].torque_percent, 100.0) << c;
+      EXPECT_DOUBLE_EQ(cases[c].pinion_crowning_mm, 0.080) << c;
+      EXPECT_DOUBLE_EQ(cases[c].mesh_misalignment_mm, 0.004) << c;
+      EXPECT_DOUBLE_EQ(cases[c].pinion_helix_slope_deviation_mm, c == 1 ? -0.010 : 0.010) << c;
+      const auto pair = map_case_pair(in, cases[c]);
+      EXPECT_DOUBLE_EQ(pair.pinion.helix_slope_deviation_mm, c == 1 ? -0.010 : 0.010) << c;
+      EXPECT_DOUBLE_EQ(pair.gear.helix_slope_deviation_mm, 0.003) << c;
+    }
+}
+
+TEST(LoadMap, AProductMapRunsEveryCombinationWithTorqueInnermost)
+{
+  // Requirement of a tolerance study (map_product): every crowning x f_Hb x misalignment x
+  // torque, nested in that order so that each design's torque curve is contiguous; an empty axis
+  // is the pair's own value, and no torque list is the scene's torque.
+  auto in                 = test_pairs::paper_pair(0.080);
+  in.fe.dimension         = 3;
+  in.map_product          = true;
+  in.torque_map_percent   = {50, 100, 200};
+  in.crowning_map_mm      = {0.040, 0.080};
+  in.misalignment_map_mm  = {-0.010, 0.0, 0.010};
+  in.helix_slope_map_mm   = {-0.008, 0.008};
+  const auto cases        = map_cases(in);
+  ASSERT_EQ(cases.size(), 2u * 2u * 3u * 3u);
+  std::size_t c = 0;
+  for (const double crowning : in.crowning_map_mm)
+    for (const double slope : in.helix_slope_map_mm)
+      for (const double misalignment : in.misalignment_map_mm)
+        for (const double percent : in.torque_map_percent)
+          {
+            EXPECT_DOUBLE_EQ(cases[c].gear_crowning_mm, crowning) << c;
+            EXPECT_DOUBLE_EQ(cases[c].pinion_helix_slope_deviation_mm, slope) << c;
+            EXPECT_DOUBLE_EQ(cases[c].mesh_misalignment_mm, misalignment) << c;
+            EXPECT_DOUBLE_EQ(cases[c].torque_Nm, 210.0 * percent / 100.0) << c;
+            ++c;
+          }
+  in.torque_map_percent.clear();
+  in.crowning_map_mm.clear();
+  in.helix_slope_map_mm.clear();
+  const auto by_misalignment = map_cases(in);
+  ASSERT_EQ(by_misalignment.size(), 3u);
+  for (const auto &m : by_misalignment)
+    {
+      EXPECT_DOUBLE_EQ(m.torque_percent, 100.0);
+      EXPECT_DOUBLE_EQ(m.pinion_crowning_mm, 0.080);
+      EXPECT_DOUBLE_EQ(m.pinion_helix_slope_deviation_mm, 0.0);
+    }
+}
+
 TEST(LoadMap, AMapItCannotRunIsRefusedNamingItsField)
 {
   // Requirement: a non-positive torque, a variant along the face in 2D, and a variant the pair
@@ -67,9 +131,20 @@ TEST(LoadMap, AMapItCannotRunIsRefusedNamingItsField)
   in.misalignment_map_mm = {};
   in.crowning_map_mm     = {0.9}; // leaves no top land
   EXPECT_THAT(refused(in), HasSubstr("crowning_map_mm: 900 um"));
+  in.crowning_map_mm    = {};
+  in.helix_slope_map_mm = {0.010, 1.8}; // 900 um removed at a face end: no top land either
+  EXPECT_THAT(refused(in), HasSubstr("helix_slope_map_mm: 1800 um"));
+  in.map_product = true; // in a product too, the axis that breaks the pair is named
+  EXPECT_THAT(refused(in), HasSubstr("helix_slope_map_mm: 1800 um"));
+  in.map_product        = false;
+  in.helix_slope_map_mm = {};
   in.fe.dimension = 2;
   in.crowning_map_mm = {0.01};
-  EXPECT_THAT(refused(in), HasSubstr("need {dimension} = 3"));
-  in.crowning_map_mm = {};
+  EXPECT_THAT(refused(in), HasSubstr("crowning_map_mm: 10 um: a lead crowning varies along the face"));
+  in.crowning_map_mm    = {};
+  in.helix_slope_map_mm = {0.01};
+  EXPECT_THAT(refused(in), HasSubstr("helix_slope_map_mm: 10 um: a helix slope deviation varies along the face"));
+  EXPECT_THAT(refused(in), HasSubstr("needs {dimension} = 3"));
+  in.helix_slope_map_mm = {};
   EXPECT_EQ(refused(in), "");
 }

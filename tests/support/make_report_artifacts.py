@@ -75,7 +75,8 @@ ACTIVE_ROLL_MM = (4.7, 18.5)
 BASE_PITCH_MM = 8.0
 TORQUE_NM = 210.0
 MAP_HEADER = ["case", "torque_Nm", "torque_percent", "load_N", "pinion_crowning_um",
-              "gear_crowning_um", "mesh_misalignment_um", "position", "mesh_phase", "ste_um",
+              "gear_crowning_um", "mesh_misalignment_um", "pinion_helix_slope_deviation_um",
+              "gear_helix_slope_deviation_um", "position", "mesh_phase", "ste_um",
               "k_total_N_per_m", "k_hertz", "k_rest_N_per_m", "pairs_in_contact", "load_share_1",
               "load_share_2", "hertz_penetration_um", "contact_a_mm", "contact_b_mm",
               "peak_pressure_MPa", "k_total_tangent_N_per_m", "contact_centre_z_mm",
@@ -83,31 +84,33 @@ MAP_HEADER = ["case", "torque_Nm", "torque_percent", "load_N", "pinion_crowning_
 
 
 def map_cases():
-    """(crowning µm, torque %, misalignment µm): every torque of each crowning variant, then
-    every misalignment of each at 100 %."""
-    cases = [(c, t, 0.0) for c in (0.0, 40.0) for t in (25.0, 50.0, 100.0, 150.0)]
-    return cases + [(c, 100.0, m) for c in (0.0, 40.0) for m in (-30.0, 0.0, 30.0)]
+    """(crowning µm, torque %, misalignment µm, pinion f_Hβ µm): a tolerance study
+    (combination = product), every crowning x f_Hβ x misalignment x torque."""
+    return [(c, t, m, f) for c in (0.0, 40.0) for f in (0.0, 20.0) for m in (-30.0, 0.0, 30.0)
+            for t in (25.0, 50.0, 100.0, 150.0)]
 
 
-def contact_band(crowning, percent, misalignment):
+def contact_band(crowning, percent, misalignment, slope=0.0):
     """(centre z, half length along the face, peak pressure) of the synthetic contact: the
-    uncrowned one spans the face, the crowned one grows with load; misalignment shifts it."""
+    uncrowned one spans the face, the crowned one grows with load; misalignment and a helix
+    slope deviation (the same lead gap) shift it."""
     half = FACE_WIDTH_MM / 2
+    tilt = misalignment + slope
     length = half if crowning == 0 else min(half, 3.0 + 2.0 * math.sqrt(percent / 100.0))
-    centre = -misalignment / 30.0 * (1.5 if crowning else 4.0)
-    return centre, length, 1200.0 * math.sqrt(percent / 100.0) * (1 + abs(misalignment) / 60.0)
+    centre = -tilt / 30.0 * (1.5 if crowning else 4.0)
+    return centre, length, 1200.0 * math.sqrt(percent / 100.0) * (1 + abs(tilt) / 60.0)
 
 
 def map_rows(case, variant, stiffness_rows):
-    crowning, percent, misalignment = variant
-    centre, length, p0 = contact_band(crowning, percent, misalignment)
+    crowning, percent, misalignment, slope = variant
+    centre, length, p0 = contact_band(crowning, percent, misalignment, slope)
     scale = percent / 100.0
     edge = int(abs(centre) + length >= FACE_WIDTH_MM / 2 - 1e-9)
     rows = []
     for r in stiffness_rows:
         soft = 1.0 + crowning / 100.0
         rows.append([case, TORQUE_NM * scale, percent, F0_N * scale, crowning, crowning,
-                     misalignment, r[0], r[1], r[2] * scale * soft, r[3] / soft, r[4], r[5] / soft,
+                     misalignment, slope, 0.0, r[0], r[1], r[2] * scale * soft, r[3] / soft, r[4], r[5] / soft,
                      r[6], r[7], r[8], r[9] * scale, r[10], length, p0 * (1 + 0.1 * (r[6] == 1)),
                      1.1 * r[3] / soft, centre, edge, int(r[0] == 0)])
     return rows
@@ -116,7 +119,7 @@ def map_rows(case, variant, stiffness_rows):
 def map_summary(rows):
     column = {name: np.array([r[i] for r in rows], dtype=float)
               for i, name in enumerate(MAP_HEADER)}
-    summary = {k: float(column[k][0]) for k in MAP_HEADER[:7]}
+    summary = {k: float(column[k][0]) for k in MAP_HEADER[:9]}
     summary["case"] = int(summary["case"])
     summary.update({
         "ste_peak_to_peak_um": float(np.ptp(column["ste_um"])),
@@ -159,9 +162,9 @@ def load_map(folder, stiffness_rows):
         rows += case_rows
         summaries.append(map_summary(case_rows))
         cells += pattern_cells(case, variant, len(stiffness_rows))
-    scene = (40.0, 100.0, 0.0)
+    scene = (40.0, 100.0, 0.0, 0.0)
     contact = {k: v for k, v in map_summary(map_rows(-1, scene, stiffness_rows)).items()
-               if k not in MAP_HEADER[:7]}
+               if k not in MAP_HEADER[:9]}
     contact.update({"pinion_active_roll_min_mm": ACTIVE_ROLL_MM[0],
                     "pinion_active_roll_max_mm": ACTIVE_ROLL_MM[1],
                     "face_width_mm": FACE_WIDTH_MM})

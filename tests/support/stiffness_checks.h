@@ -37,7 +37,7 @@ namespace hertzgear::testing
             continue;
           }
         std::size_t at = 0;
-        for (int k = 0; k < 7; ++k) // case, torque, percent, load, two crownings, misalignment
+        for (int k = 0; k < 9; ++k) // case, torque, percent, load, two crownings, misalignment, two f_Hb
           at = line.find(',', at) + 1;
         if (std::stoi(line.substr(0, line.find(','))) == map_case)
           rows.push_back(line.substr(at));
