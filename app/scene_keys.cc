@@ -21,6 +21,7 @@ namespace hertzgear
         {"crowning_map_mm", "Stiffness/Map/crowning_um"},
         {"misalignment_map_mm", "Stiffness/Map/mesh_misalignment_um"},
         {"helix_slope_map_mm", "Stiffness/Map/helix_slope_deviation_um"},
+        {"map_combination", "Stiffness/Map/combination"},
         {"load_ladder_percent", "Stiffness/load_ladder_percent"},
         {"positions_per_cycle", "Stiffness/positions_per_cycle"},
         {"harmonics", "Stiffness/harmonics"},

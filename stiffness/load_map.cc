@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
 
 namespace hertzgear::stiffness
 {
@@ -85,30 +87,57 @@ namespace hertzgear::stiffness
     {
       const char *field, *what;
       const std::vector<double> &values;
+      double MapCase::*member; // the case's value this axis sets
     };
+    const Axis axes[] = {
+      {"crowning_map_mm", "a lead crowning", in.crowning_map_mm, &MapCase::pinion_crowning_mm},
+      {"misalignment_map_mm", "a misalignment", in.misalignment_map_mm, &MapCase::mesh_misalignment_mm},
+      {"helix_slope_map_mm", "a helix slope deviation", in.helix_slope_map_mm,
+       &MapCase::pinion_helix_slope_deviation_mm}};
     if (in.has_map() && in.fe.dimension != 3)
-      for (const Axis &axis : {Axis{"crowning_map_mm", "a lead crowning", in.crowning_map_mm},
-                               Axis{"misalignment_map_mm", "a misalignment", in.misalignment_map_mm},
-                               Axis{"helix_slope_map_mm", "a helix slope deviation", in.helix_slope_map_mm}})
+      for (const Axis &axis : axes)
         if (!axis.values.empty())
           throw ParameterError(axis.field, msg(axis.values.front() * 1e3, " um: ", axis.what,
                                                " varies along the face: it needs {dimension} = 3"));
-    for (const auto &c : map_cases(in))
+    if (!in.has_map())
+      return;
+    const auto refusal = [&](const MapCase &c) -> std::optional<std::string> {
       try
         {
           meshing::PairKinematics kinematics(map_case_pair(in, c));
         }
       catch (const InputError &e)
         {
-          // The first of the case's values that is not the pair's own names the map's field.
-          const auto &p = in.pair;
-          if (c.pinion_crowning_mm != p.pinion.crowning_mm || c.gear_crowning_mm != p.gear.crowning_mm)
-            throw ParameterError("crowning_map_mm", msg(c.pinion_crowning_mm * 1e3, " um: ", e.what()));
-          if (c.mesh_misalignment_mm != p.mesh_misalignment_mm)
-            throw ParameterError("misalignment_map_mm", msg(c.mesh_misalignment_mm * 1e3, " um: ", e.what()));
-          throw ParameterError("helix_slope_map_mm",
-                               msg(c.pinion_helix_slope_deviation_mm * 1e3, " um: ", e.what()));
+          return std::string(e.what());
         }
+      return std::nullopt;
+    };
+    // Each value alone on the pair names its own field; then a combination of values each of
+    // which the pair takes alone names the combination.
+    MapCase own;
+    own.pinion_crowning_mm              = in.pair.pinion.crowning_mm;
+    own.gear_crowning_mm                = in.pair.gear.crowning_mm;
+    own.mesh_misalignment_mm            = in.pair.mesh_misalignment_mm;
+    own.pinion_helix_slope_deviation_mm = in.pair.pinion.helix_slope_deviation_mm;
+    own.gear_helix_slope_deviation_mm   = in.pair.gear.helix_slope_deviation_mm;
+    for (const Axis &axis : axes)
+      for (const double value : axis.values)
+        {
+          MapCase c     = own;
+          c.*axis.member = value;
+          if (axis.member == &MapCase::pinion_crowning_mm)
+            c.gear_crowning_mm = value;
+          if (const auto why = refusal(c))
+            throw ParameterError(axis.field, msg(value * 1e3, " um: ", *why));
+        }
+    for (const auto &c : map_cases(in))
+      if (const auto why = refusal(c))
+        throw ParameterError("map_combination",
+                             msg(in.map_product ? "product" : "separate", ": crowning ",
+                                 c.pinion_crowning_mm * 1e3, " um with misalignment ",
+                                 c.mesh_misalignment_mm * 1e3, " um and helix slope deviation ",
+                                 c.pinion_helix_slope_deviation_mm * 1e3, " um, each of which the pair "
+                                 "takes alone, together: ", *why));
   }
 
   void check_load_ladder(const StiffnessInput &in)

@@ -24,7 +24,9 @@ namespace hertzgear::stiffness
   meshing::PairParameters map_case_pair(const StiffnessInput &input, const MapCase &c);
 
   // Before any work: every torque positive, variants along the face only in 3D, and every case a
-  // pair the kinematics accept. Throws ParameterError naming the map's field.
+  // pair the kinematics accept. Throws ParameterError naming the map's field whose value the pair
+  // does not take alone, or map_combination for a case whose values it takes alone but not
+  // together.
   void check_map(const StiffnessInput &input);
 
   // Before any work: a load ladder of at least 2 positive, increasing loads whose top reaches

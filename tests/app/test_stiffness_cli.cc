@@ -120,6 +120,10 @@ TEST(StiffnessCli, LoadsAndSettingsItCannotAnalyseExitTwo)
      " --set Stiffness/Map/torque_percent=50,100 --set Stiffness/Map/helix_slope_deviation_um=0,-1000"
      " --set 'Gear pair/Pinion/crowning_um=400'",
      "Stiffness/Map/helix_slope_deviation_um = -1000 um: pinion: crowning 400 um"},
+    {" --set Stiffness/fe_dimension=3 --set Stiffness/Map/combination=product"
+     " --set Stiffness/Map/crowning_um=0,600 --set Stiffness/Map/helix_slope_deviation_um=0,600",
+     "Stiffness/Map/combination = product: crowning 600 um with misalignment 0 um and helix slope "
+     "deviation 600 um, each of which the pair takes alone, together: pinion: crowning 600 um"},
     {" --set Stiffness/source=iso6336 --set Stiffness/Map/torque_percent=50",
      "needs the contact analysis of Stiffness/source = fem"},
     // (in 3D: the plane-strain model refuses any value that varies along the face width)

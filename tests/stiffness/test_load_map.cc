@@ -134,8 +134,17 @@ TEST(LoadMap, AMapItCannotRunIsRefusedNamingItsField)
   in.crowning_map_mm    = {};
   in.helix_slope_map_mm = {0.010, 1.8}; // 900 um removed at a face end: no top land either
   EXPECT_THAT(refused(in), HasSubstr("helix_slope_map_mm: 1800 um"));
-  in.map_product = true; // in a product too, the axis that breaks the pair is named
+  in.map_product     = true; // in a product too, the axis that breaks the pair alone is named
+  in.crowning_map_mm = {0.0, 0.010}; // even where a crowning variant comes first
   EXPECT_THAT(refused(in), HasSubstr("helix_slope_map_mm: 1800 um"));
+  // Values the pair takes alone but not together name the combination: 600 um of crowning and
+  // 2 x 300 um of slope remove 900 um at a face end, as the 900 um crowning above.
+  in.crowning_map_mm    = {0.0, 0.6};
+  in.helix_slope_map_mm = {0.0, 0.6};
+  EXPECT_THAT(refused(in), HasSubstr("map_combination: product: crowning 600 um with misalignment 0 "
+                                     "um and helix slope deviation 600 um, each of which the pair "
+                                     "takes alone, together:"));
+  in.crowning_map_mm    = {};
   in.map_product        = false;
   in.helix_slope_map_mm = {};
   in.fe.dimension = 2;
