@@ -86,6 +86,8 @@ namespace hertzgear::contact
     // its ends are the face's ends.
     double              z_min = 0, z_max = 0;
     bool                z_min_is_face_end = true, z_max_is_face_end = true;
+    // The middle of face column iz [mm].
+    double column_z(const unsigned int iz) const { return z_min + (iz + 0.5) * dz; }
     // per cell (block-major, then i_u + n_u * i_z as half_space::ContactGrid numbers them)
     std::vector<int>        cell_block;
     std::vector<FlankPoint> pinion_point, gear_point;
@@ -202,22 +204,20 @@ namespace hertzgear::contact
     g.z_min_is_face_end = g.z_min <= -0.5 * g.face_width + tol;
     g.z_max_is_face_end = g.z_max >= 0.5 * g.face_width - tol;
     g.dz                = (g.z_max - g.z_min) / g.n_z;
-    const auto column_z = [&](const unsigned int iz) { return g.z_min + (iz + 0.5) * g.dz; };
 
     // The pairs whose contact line lies on the (extended) path of contact in some face column of
     // the grid (spur: at its one roll s_j).
-    const auto   in_path = [&](const double s) { return on_extended_path(s); };
     const double reach   = std::abs(slope) * std::max(std::abs(g.z_min), std::abs(g.z_max));
     const int    n_reach = static_cast<int>(std::ceil(reach / p_b));
     for (int pair = -3 - n_reach; pair <= 3 + n_reach; ++pair)
       {
         const double s = kinematics.contact_roll_distance_mm(pair, mesh_phase);
-        bool         any = in_path(s);
+        bool         any = on_extended_path(s);
         if (slope != 0)
           {
             any = false;
             for (unsigned int iz = 0; iz < g.n_z; ++iz)
-              any = any || in_path(kinematics.contact_roll_distance_mm(pair, mesh_phase, column_z(iz)));
+              any = any || on_extended_path(kinematics.contact_roll_distance_mm(pair, mesh_phase, g.column_z(iz)));
           }
         if (any)
           {
@@ -243,8 +243,6 @@ namespace hertzgear::contact
     const double r_b1   = pinion.base_radius_mm();
     const double slope  = kinematics.contact_line_slope(); // 0 spur
     const double cos_bb = kinematics.cos_base_helix();     // 1 spur
-    const auto   column_z = [&](const unsigned int iz) { return g.z_min + (iz + 0.5) * g.dz; };
-    const auto   in_path  = [&](const double s) { return on_extended_path(s); };
     HG_REQUIRE_NUMERIC(!g.pairs.empty(), "no tooth pair in contact at mesh phase ", mesh_phase);
     for (const int pair : g.pairs)
       HG_REQUIRE_INPUT(compliances[0]->covers_tooth(pair) && compliances[1]->covers_tooth(-pair),
@@ -256,9 +254,9 @@ namespace hertzgear::contact
         {
           const double sc = slope == 0 ? g.roll_mm[b] :
                                          kinematics.contact_roll_distance_mm(g.pairs[b], mesh_phase,
-                                                                             column_z(iz));
+                                                                             g.column_z(iz));
           g.column_roll_mm.push_back(sc);
-          g.column_in_path.push_back(in_path(sc));
+          g.column_in_path.push_back(on_extended_path(sc));
         }
 
     // Flank extents as roll distances: form circle to tip circle of each body.
@@ -287,7 +285,7 @@ namespace hertzgear::contact
     for (unsigned int b = 0; b < g.pairs.size(); ++b)
       for (unsigned int iz = 0; iz < g.n_z; ++iz)
         {
-          const double z  = column_z(iz);
+          const double z  = g.column_z(iz);
           const double sc = g.column_roll_mm[b * g.n_z + iz];
           // Pinion and gear roll of the flank point at surface distance u across the profile
           // (the involute arc length from the base circle is s^2 / (2 r_b): inverted exactly),

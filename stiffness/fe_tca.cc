@@ -1043,9 +1043,10 @@ namespace hertzgear::stiffness
       // ranks by their expected work (processes::share_by_work), and every rank then receives
       // every position (docs/accuracy-stiffness.md, "MPI: what runs where"). A position's solve is
       // the same code on the same compliances whichever rank runs it, and every rank assembles
-      // each cycle from the same positions: the cycles do not depend on P. `done(c, cycle, work_s)` is called on every rank for every cycle in order, work_s
-      // the sum of its positions' solve times: with one rank as soon as the cycle is solved, on
-      // several after the exchange. `position_line(c, i, p, s, rank)` is called on rank 0 for each
+      // each cycle from the same positions: the cycles do not depend on P. `done(c, cycle,
+      // work_s)` is called on every rank for every cycle in order, work_s the sum of its
+      // positions' solve times: with one rank as soon as the cycle is solved, on several after the
+      // exchange. `position_line(c, i, p, s, rank)` is called on rank 0 for each
       // position it solves, and after the exchange for the other ranks' positions; without it, a
       // stage of several cycles on several ranks shows its progress by a line of rank 0 per cycle
       // (`label(c)`) when rank 0 has solved its part of it.

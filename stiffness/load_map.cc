@@ -25,6 +25,7 @@ namespace hertzgear::stiffness
     };
     const std::vector<double> crownings = or_own(in.crowning_map_mm);
     const std::vector<double> slopes    = or_own(in.helix_slope_map_mm);
+    const std::vector<double> tilts     = or_own(in.misalignment_map_mm);
     std::vector<double>       percents  = in.torque_map_percent;
     const auto add = [&](const double percent, const double crowning, const double misalignment,
                          const double slope) {
@@ -46,7 +47,7 @@ namespace hertzgear::stiffness
           percents.push_back(100.0);
         for (const double crowning : crownings)
           for (const double slope : slopes)
-            for (const double misalignment : or_own(in.misalignment_map_mm))
+            for (const double misalignment : tilts)
               for (const double percent : percents)
                 add(percent, crowning, misalignment, slope);
         return cases;
